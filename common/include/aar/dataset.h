@@ -1,0 +1,100 @@
+#pragma once
+// The dataset folder schema (docs/dataset-format.md, schema "aar-dataset/1"):
+//
+//   DATASET/manifest.json            what made the dataset, and SHA-256 of every file
+//   DATASET/rig.json                 the rig used (scenes/rig.json format)
+//   DATASET/flightpath.csv           the flight path used
+//   DATASET/receiver.glb             the receiver model used
+//   DATASET/calibration_ideal.yaml   the exact calibration (OpenCV FileStorage)
+//   DATASET/frames/NNNNNN.json       per-frame truth sidecar
+//   DATASET/frames/NNNNNN_left.png   8-bit sRGB, MSAA-resolved
+//   DATASET/frames/NNNNNN_right.png
+//   DATASET/frames/NNNNNN_left_depth.exr   (with --depth) float32 metres along the optical axis
+//   DATASET/calib/NNNNNN.json, NNNNNN_left.png, NNNNNN_right.png   calibration-board pairs
+
+#include <cstddef>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "aar/pose.h"
+#include "aar/rig.h"
+
+namespace aar {
+
+inline constexpr const char* kDatasetSchema = "aar-dataset/1";
+inline constexpr const char* kFrameSchema = "aar-frame/1";
+inline constexpr const char* kManifestName = "manifest.json";
+inline constexpr const char* kRigName = "rig.json";
+inline constexpr const char* kFlightPathName = "flightpath.csv";
+inline constexpr const char* kReceiverModelName = "receiver.glb";
+inline constexpr const char* kIdealCalibrationName = "calibration_ideal.yaml";
+inline constexpr const char* kFramesDir = "frames";
+inline constexpr const char* kCalibDir = "calib";
+
+/// Calibration board geometry (thesis 3.3).
+struct BoardSpec {
+  int inner_corners_x = 16;  ///< inner corners along a row (board x axis)
+  int inner_corners_y = 17;  ///< inner corners along a column (board y axis)
+  double square_m = 0.5;     ///< square size [m]
+};
+
+/// A file of the dataset, path relative to the dataset root.
+struct FileRef {
+  std::string path;
+  std::string sha256;
+};
+
+/// Per-frame truth sidecar. `kind` is "frame" (flight-path sample; the
+/// target is the receiver) or "calib" (calibration pair; the target is the board).
+struct FrameSidecar {
+  std::string kind = "frame";
+  size_t index = 0;
+  double time_s = 0.0;                    ///< flight-path time (frames only)
+  Pose tanker_from_target;                ///< tanker_from_receiver or tanker_from_board
+  double range_m = 0.0;                   ///< left camera centre to target origin [m]
+  std::string region = "none";            ///< A, B, C or none (frames only)
+  double in_view_left = 0.0;              ///< fraction of target model vertices inside the left image
+  double in_view_right = 0.0;             ///< same for the right image
+  StereoRig rig;                          ///< ideal intrinsics and extrinsics
+  std::optional<BoardSpec> board;         ///< calib only
+  std::map<std::string, FileRef> files;   ///< "left", "right", optional "left_depth"
+};
+
+/// Zero-padded frame stem, e.g. 12 -> "000012".
+std::string FrameStem(size_t index);
+/// Sidecar path of frame `index` of `kind` inside `dataset`.
+std::filesystem::path SidecarPath(const std::filesystem::path& dataset, const std::string& kind, size_t index);
+
+nlohmann::json PoseToJson(const Pose& pose);
+Pose PoseFromJson(const nlohmann::json& j, const std::string& where);
+nlohmann::json SidecarToJson(const FrameSidecar& sidecar);
+/// Reads a sidecar; throws aar::Error naming the file and the reason.
+FrameSidecar ReadSidecar(const std::filesystem::path& path);
+/// True when the sidecar exists, parses, and every file it lists exists with
+/// the recorded SHA-256 (the resume check).
+bool SidecarVerified(const std::filesystem::path& dataset, const std::filesystem::path& sidecar_path);
+
+/// The parts of manifest.json that readers need; `json` holds all of it.
+struct Manifest {
+  std::string schema;
+  size_t frame_count = 0;        ///< flight-path frames (0 when none were rendered)
+  size_t calib_pair_count = 0;   ///< calibration pairs (0 when none were rendered)
+  bool complete = false;         ///< every frame and pair present and hashed in `files`
+  std::map<std::string, std::string> files;  ///< relative path -> SHA-256
+  nlohmann::json json;
+};
+
+/// Reads DATASET/manifest.json; throws aar::Error when missing or malformed.
+Manifest ReadManifest(const std::filesystem::path& dataset);
+
+/// Reads a JSON file; throws aar::Error naming the file.
+nlohmann::json ReadJsonFile(const std::filesystem::path& path);
+/// Writes JSON (2-space indent, keys sorted, trailing newline) atomically.
+void WriteJsonFile(const std::filesystem::path& path, const nlohmann::json& j);
+
+}  // namespace aar

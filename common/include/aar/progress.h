@@ -1,0 +1,30 @@
+#pragma once
+// A progress line on stderr: items done of total, rate and ETA. Redraws in
+// place on a terminal, prints at most every `interval_s` otherwise (logs).
+
+#include <chrono>
+#include <cstddef>
+#include <string>
+
+namespace aar {
+
+class Progress {
+ public:
+  Progress(std::string label, size_t total, double interval_s = 2.0);
+  /// Marks `n` more items done and prints if due.
+  void Advance(size_t n = 1);
+  /// Prints the final line with the total time.
+  void Finish();
+
+ private:
+  void Print(bool final_line);
+  std::string label_;
+  size_t total_;
+  size_t done_ = 0;
+  double interval_s_;
+  bool tty_;
+  std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point last_print_;
+};
+
+}  // namespace aar

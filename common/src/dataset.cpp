@@ -1,0 +1,151 @@
+#include "aar/dataset.h"
+
+#include <cstdio>
+#include <fstream>
+
+#include "aar/error.h"
+#include "aar/file_io.h"
+
+namespace aar {
+
+std::string FrameStem(size_t index) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%06zu", index);
+  return buffer;
+}
+
+std::filesystem::path SidecarPath(const std::filesystem::path& dataset, const std::string& kind, size_t index) {
+  return dataset / (kind == "calib" ? kCalibDir : kFramesDir) / (FrameStem(index) + ".json");
+}
+
+nlohmann::json PoseToJson(const Pose& pose) {
+  nlohmann::json j = IsometryToJson(IsometryFromPose(pose));
+  j["roll_deg"] = pose.roll_deg;
+  j["pitch_deg"] = pose.pitch_deg;
+  j["yaw_deg"] = pose.yaw_deg;
+  return j;
+}
+
+Pose PoseFromJson(const nlohmann::json& j, const std::string& where) {
+  try {
+    Pose pose;
+    for (int i = 0; i < 3; ++i) pose.translation_m(i) = j.at("translation_m").at(i).get<double>();
+    pose.roll_deg = j.at("roll_deg").get<double>();
+    pose.pitch_deg = j.at("pitch_deg").get<double>();
+    pose.yaw_deg = j.at("yaw_deg").get<double>();
+    return pose;
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(where + ": bad pose: " + e.what());
+  }
+}
+
+nlohmann::json SidecarToJson(const FrameSidecar& s) {
+  nlohmann::json j;
+  j["schema"] = kFrameSchema;
+  j["kind"] = s.kind;
+  j["index"] = s.index;
+  const bool calib = s.kind == "calib";
+  j[calib ? "tanker_from_board" : "tanker_from_receiver"] = PoseToJson(s.tanker_from_target);
+  if (!calib) {
+    j["time_s"] = s.time_s;
+    j["region"] = s.region;
+  }
+  j["range_m"] = s.range_m;
+  j["in_view"] = {{"left", s.in_view_left}, {"right", s.in_view_right}};
+  j["rig"] = RigToJson(s.rig);
+  j["right_from_left"] = IsometryToJson(s.rig.RightFromLeft());
+  if (s.board) {
+    j["board"] = {{"inner_corners", {s.board->inner_corners_x, s.board->inner_corners_y}},
+                  {"square_m", s.board->square_m}};
+  }
+  nlohmann::json files = nlohmann::json::object();
+  for (const auto& [name, ref] : s.files) files[name] = {{"path", ref.path}, {"sha256", ref.sha256}};
+  j["files"] = files;
+  return j;
+}
+
+FrameSidecar ReadSidecar(const std::filesystem::path& path) {
+  const nlohmann::json j = ReadJsonFile(path);
+  const std::string where = path.string();
+  try {
+    if (j.value("schema", "") != kFrameSchema) throw Error(where + ": schema is not " + kFrameSchema);
+    FrameSidecar s;
+    s.kind = j.at("kind").get<std::string>();
+    if (s.kind != "frame" && s.kind != "calib") throw Error(where + ": unknown kind '" + s.kind + "'");
+    s.index = j.at("index").get<size_t>();
+    const bool calib = s.kind == "calib";
+    s.tanker_from_target = PoseFromJson(j.at(calib ? "tanker_from_board" : "tanker_from_receiver"), where);
+    if (!calib) {
+      s.time_s = j.at("time_s").get<double>();
+      s.region = j.at("region").get<std::string>();
+    }
+    s.range_m = j.at("range_m").get<double>();
+    s.in_view_left = j.at("in_view").at("left").get<double>();
+    s.in_view_right = j.at("in_view").at("right").get<double>();
+    s.rig = RigFromJson(j.at("rig"), where);
+    if (j.contains("board")) {
+      BoardSpec b;
+      b.inner_corners_x = j.at("board").at("inner_corners").at(0).get<int>();
+      b.inner_corners_y = j.at("board").at("inner_corners").at(1).get<int>();
+      b.square_m = j.at("board").at("square_m").get<double>();
+      s.board = b;
+    }
+    for (const auto& [name, ref] : j.at("files").items()) {
+      s.files[name] = FileRef{ref.at("path").get<std::string>(), ref.at("sha256").get<std::string>()};
+    }
+    if (!s.files.contains("left") || !s.files.contains("right")) throw Error(where + ": files.left/right missing");
+    return s;
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(where + ": malformed sidecar: " + e.what());
+  }
+}
+
+bool SidecarVerified(const std::filesystem::path& dataset, const std::filesystem::path& sidecar_path) {
+  if (!std::filesystem::is_regular_file(sidecar_path)) return false;
+  try {
+    const FrameSidecar s = ReadSidecar(sidecar_path);
+    for (const auto& [name, ref] : s.files) {
+      const std::filesystem::path file = dataset / ref.path;
+      if (!std::filesystem::is_regular_file(file) || Sha256File(file) != ref.sha256) return false;
+    }
+    return true;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+Manifest ReadManifest(const std::filesystem::path& dataset) {
+  const std::filesystem::path path = dataset / kManifestName;
+  if (!std::filesystem::is_regular_file(path)) {
+    throw Error(path.string() + ": no manifest (is '" + dataset.string() + "' a dataset folder?)");
+  }
+  Manifest m;
+  m.json = ReadJsonFile(path);
+  try {
+    m.schema = m.json.at("schema").get<std::string>();
+    if (m.schema != kDatasetSchema) throw Error(path.string() + ": unsupported schema '" + m.schema + "'");
+    if (m.json.contains("frames")) m.frame_count = m.json.at("frames").at("count").get<size_t>();
+    if (m.json.contains("calib")) m.calib_pair_count = m.json.at("calib").at("count").get<size_t>();
+    m.complete = m.json.value("complete", false);
+    for (const auto& [name, hash] : m.json.at("files").items()) m.files[name] = hash.get<std::string>();
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(path.string() + ": malformed manifest: " + e.what());
+  }
+  return m;
+}
+
+nlohmann::json ReadJsonFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path.string() + ": cannot open");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(path.string() + ": not valid JSON: " + e.what());
+  }
+}
+
+void WriteJsonFile(const std::filesystem::path& path, const nlohmann::json& j) {
+  WriteFileAtomic(path, j.dump(2) + "\n");
+}
+
+}  // namespace aar

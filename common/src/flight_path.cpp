@@ -1,0 +1,59 @@
+#include "aar/flight_path.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "aar/error.h"
+#include "aar/text.h"
+
+namespace aar {
+
+std::vector<FlightSample> ReadFlightPath(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path.string() + ": cannot open flight path");
+  std::string line;
+  if (!std::getline(in, line)) throw Error(path.string() + ":1: empty file, expected header '" + kFlightPathHeader + "'");
+  if (TrimCr(line) != kFlightPathHeader) {
+    throw Error(path.string() + ":1: wrong header '" + TrimCr(line) + "', expected '" + kFlightPathHeader + "'");
+  }
+  std::vector<FlightSample> samples;
+  int line_number = 1;
+  while (std::getline(in, line)) {
+    ++line_number;
+    line = TrimCr(line);
+    if (line.empty()) continue;
+    const std::vector<std::string> fields = SplitCsvLine(line);
+    const std::string where = path.string() + ":" + std::to_string(line_number);
+    if (fields.size() != 7) {
+      throw Error(where + ": expected 7 fields, found " + std::to_string(fields.size()));
+    }
+    static const char* kNames[] = {"time_s", "x_m", "y_m", "z_m", "roll_deg", "pitch_deg", "yaw_deg"};
+    double v[7];
+    for (int i = 0; i < 7; ++i) v[i] = ParseFiniteDouble(fields[i], where + ": field " + kNames[i]);
+    FlightSample s;
+    s.time_s = v[0];
+    s.tanker_from_receiver.translation_m = {v[1], v[2], v[3]};
+    s.tanker_from_receiver.roll_deg = v[4];
+    s.tanker_from_receiver.pitch_deg = v[5];
+    s.tanker_from_receiver.yaw_deg = v[6];
+    samples.push_back(s);
+  }
+  if (samples.empty()) throw Error(path.string() + ": flight path has no samples");
+  return samples;
+}
+
+std::string FormatFlightPath(const std::vector<FlightSample>& samples) {
+  std::ostringstream out;
+  out << kFlightPathHeader << '\n';
+  for (const FlightSample& s : samples) {
+    const Pose& p = s.tanker_from_receiver;
+    out << FormatFixed(s.time_s, 3) << ',' << FormatFixed(p.translation_m.x(), 4) << ','
+        << FormatFixed(p.translation_m.y(), 4) << ',' << FormatFixed(p.translation_m.z(), 4) << ','
+        << FormatFixed(p.roll_deg, 4) << ',' << FormatFixed(p.pitch_deg, 4) << ',' << FormatFixed(p.yaw_deg, 4)
+        << '\n';
+  }
+  return out.str();
+}
+
+}  // namespace aar

@@ -1,0 +1,141 @@
+#include "aar/rig.h"
+
+#include <cmath>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "aar/error.h"
+
+namespace aar {
+namespace {
+
+double FiniteNumber(const nlohmann::json& j, const char* key, const std::string& where) {
+  if (!j.contains(key) || !j.at(key).is_number()) throw Error(where + ": missing number '" + key + "'");
+  const double v = j.at(key).get<double>();
+  if (!std::isfinite(v)) throw Error(where + ": '" + key + "' is not finite");
+  return v;
+}
+
+}  // namespace
+
+Eigen::Matrix3d Intrinsics::CameraMatrix() const {
+  Eigen::Matrix3d k;
+  k << fx_px, 0, cx_px, 0, fy_px, cy_px, 0, 0, 1;
+  return k;
+}
+
+std::optional<Eigen::Vector2d> Intrinsics::Project(const Eigen::Vector3d& point_in_cam) const {
+  if (point_in_cam.z() <= 1e-9) return std::nullopt;
+  return Eigen::Vector2d(fx_px * point_in_cam.x() / point_in_cam.z() + cx_px,
+                         fy_px * point_in_cam.y() / point_in_cam.z() + cy_px);
+}
+
+bool Intrinsics::Contains(const Eigen::Vector2d& pixel) const {
+  return pixel.x() >= -0.5 && pixel.y() >= -0.5 && pixel.x() < width_px - 0.5 && pixel.y() < height_px - 0.5;
+}
+
+Eigen::Isometry3d StereoRig::RightFromLeft() const {
+  return right.tanker_from_camera.inverse() * left.tanker_from_camera;
+}
+
+double StereoRig::Baseline() const {
+  return (right.tanker_from_camera.translation() - left.tanker_from_camera.translation()).norm();
+}
+
+nlohmann::json IntrinsicsToJson(const Intrinsics& k) {
+  return {{"fx_px", k.fx_px}, {"fy_px", k.fy_px}, {"cx_px", k.cx_px}, {"cy_px", k.cy_px}};
+}
+
+nlohmann::json IsometryToJson(const Eigen::Isometry3d& a_from_b) {
+  const Eigen::Matrix3d r = a_from_b.linear();
+  const Eigen::Vector3d t = a_from_b.translation();
+  return {{"translation_m", {t.x(), t.y(), t.z()}},
+          {"rotation",
+           {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}}}};
+}
+
+Intrinsics IntrinsicsFromJson(const nlohmann::json& j, int width, int height, const std::string& where) {
+  Intrinsics k;
+  k.width_px = width;
+  k.height_px = height;
+  k.fx_px = FiniteNumber(j, "fx_px", where);
+  k.fy_px = FiniteNumber(j, "fy_px", where);
+  k.cx_px = FiniteNumber(j, "cx_px", where);
+  k.cy_px = FiniteNumber(j, "cy_px", where);
+  if (k.fx_px <= 0 || k.fy_px <= 0) throw Error(where + ": focal lengths must be positive");
+  return k;
+}
+
+Eigen::Isometry3d IsometryFromJson(const nlohmann::json& j, const std::string& where) {
+  const auto& t = j.at("translation_m");
+  const auto& r = j.at("rotation");
+  if (!t.is_array() || t.size() != 3 || !r.is_array() || r.size() != 3) {
+    throw Error(where + ": expected translation_m[3] and rotation[3][3]");
+  }
+  Eigen::Isometry3d a_from_b = Eigen::Isometry3d::Identity();
+  for (int i = 0; i < 3; ++i) {
+    a_from_b.translation()(i) = t.at(i).get<double>();
+    if (!r.at(i).is_array() || r.at(i).size() != 3) throw Error(where + ": rotation must be 3x3");
+    for (int c = 0; c < 3; ++c) a_from_b.linear()(i, c) = r.at(i).at(c).get<double>();
+  }
+  const Eigen::Matrix3d rr = a_from_b.linear();
+  if ((rr.transpose() * rr - Eigen::Matrix3d::Identity()).norm() > 1e-6 || rr.determinant() < 0.999) {
+    throw Error(where + ": rotation is not a proper rotation matrix");
+  }
+  return a_from_b;
+}
+
+nlohmann::json RigToJson(const StereoRig& rig) {
+  auto camera = [](const Camera& c) {
+    nlohmann::json j = IntrinsicsToJson(c.intrinsics);
+    j["tanker_from_camera"] = IsometryToJson(c.tanker_from_camera);
+    return j;
+  };
+  const Eigen::Vector3d& contact = rig.contact_position_m;
+  return {{"schema", "aar-rig/1"},
+          {"image_width", rig.left.intrinsics.width_px},
+          {"image_height", rig.left.intrinsics.height_px},
+          {"cameras", {{"left", camera(rig.left)}, {"right", camera(rig.right)}}},
+          {"near_m", rig.near_m},
+          {"contact_position_m", {contact.x(), contact.y(), contact.z()}}};
+}
+
+StereoRig RigFromJson(const nlohmann::json& j, const std::string& where) {
+  try {
+    StereoRig rig;
+    const int width = j.at("image_width").get<int>();
+    const int height = j.at("image_height").get<int>();
+    if (width <= 0 || height <= 0 || width > 16384 || height > 16384) throw Error(where + ": bad image size");
+    auto camera = [&](const char* name) {
+      const nlohmann::json& c = j.at("cameras").at(name);
+      Camera cam;
+      cam.intrinsics = IntrinsicsFromJson(c, width, height, where + ": camera " + name);
+      cam.tanker_from_camera = IsometryFromJson(c.at("tanker_from_camera"), where + ": camera " + name);
+      return cam;
+    };
+    rig.left = camera("left");
+    rig.right = camera("right");
+    rig.near_m = j.value("near_m", 0.5);
+    if (j.contains("contact_position_m")) {
+      for (int i = 0; i < 3; ++i) rig.contact_position_m(i) = j.at("contact_position_m").at(i).get<double>();
+    }
+    return rig;
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(where + ": " + e.what());
+  }
+}
+
+StereoRig LoadRig(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path.string() + ": cannot open rig file");
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(path.string() + ": not valid JSON: " + e.what());
+  }
+  return RigFromJson(j, path.string());
+}
+
+}  // namespace aar
