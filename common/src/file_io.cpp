@@ -17,7 +17,8 @@ namespace aar {
 namespace {
 
 std::filesystem::path TemporaryName(const std::filesystem::path& path) {
-  return path.parent_path() / ("." + path.filename().string() + ".tmp" + std::to_string(::getpid()));
+  // Keeps the extension, so writers that pick a format from the name still work.
+  return path.parent_path() / (".tmp" + std::to_string(::getpid()) + "." + path.filename().string());
 }
 
 void Rename(const std::filesystem::path& from, const std::filesystem::path& to) {

@@ -1,0 +1,29 @@
+#pragma once
+// Calibration-board poses (thesis 3.3, Figure 10): a fixed, deterministic set
+// of tilted board poses behind the tanker, each with the whole board (border
+// included) inside both images.
+
+#include <vector>
+
+#include "aar/dataset.h"
+#include "aar/pose.h"
+#include "aar/rig.h"
+
+namespace aar {
+
+struct CalibPoseOptions {
+  double min_distance_m = 15.0;  ///< closest board-centre distance along the left optical axis [m]
+  double border_m = 0.5;         ///< white border around the squares [m]
+  double margin_px = 12.0;       ///< keep the board this far inside each image [px]
+  BoardSpec board;
+};
+
+/// The board's outline corners (border included) in the board frame.
+std::vector<Eigen::Vector3d> BoardOutline(const CalibPoseOptions& options);
+
+/// Twelve poses tanker_from_board: tilts of up to 30 degrees about the board's
+/// x and y axes and up to 15 degrees about its normal, each pushed back from
+/// `min_distance_m` in 0.25 m steps until the outline fits both images.
+std::vector<Pose> CalibrationBoardPoses(const StereoRig& rig, const CalibPoseOptions& options = {});
+
+}  // namespace aar

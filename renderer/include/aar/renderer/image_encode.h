@@ -1,0 +1,25 @@
+#pragma once
+// Output encodings of rendered views (docs/dataset-format.md).
+
+#include <filesystem>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "aar/renderer/scene_renderer.h"
+
+namespace aar {
+
+/// Linear RGB floats -> 8-bit sRGB, BGR channel order (OpenCV), exact
+/// round-to-nearest of the sRGB transfer function.
+cv::Mat ToSrgb8(const LinearImage& image);
+
+/// PNG bytes (8-bit sRGB, 3 channels) of an image from ToSrgb8.
+std::string EncodePng(const cv::Mat& bgr8);
+
+/// Writes the depth of a ground-truth image as a one-channel 32-bit float
+/// OpenEXR file (channel "Z", metres along the optical axis, 0 = no surface),
+/// atomically, with OpenImageIO; returns the file's SHA-256.
+std::string WriteDepthExr(const std::filesystem::path& path, const GroundTruthImage& truth);
+
+}  // namespace aar

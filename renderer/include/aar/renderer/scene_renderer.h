@@ -1,0 +1,93 @@
+#pragma once
+// Renders views of uploaded models with a pinhole camera: colour with MSAA
+// (native or composed from jittered passes, docs/rendering.md) in linear
+// floating point, and a one-sample ground-truth pass (depth, object id).
+// Vulkan objects here only record and submit; the maths lives in
+// projection.h and msaa.h.
+
+#include <map>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "aar/renderer/gpu_resources.h"
+#include "aar/renderer/msaa.h"
+#include "aar/renderer/scene_model.h"
+#include "aar/renderer/vulkan_context.h"
+#include "aar/rig.h"
+
+namespace aar {
+
+struct RenderItem {
+  int model = 0;                                                   ///< index returned by AddModel
+  Eigen::Isometry3d tanker_from_object = Eigen::Isometry3d::Identity();
+  float object_id = 0.0f;                                          ///< written by the ground-truth pass
+};
+
+struct ViewTimings {
+  double render_ms = 0.0;    ///< recording, submission and GPU time of the passes
+  double readback_ms = 0.0;  ///< copy to host memory, conversion and averaging
+};
+
+/// Linear RGB floats, row-major, 3 per pixel.
+struct LinearImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> rgb;
+};
+
+struct GroundTruthImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> depth_m;        ///< along the optical axis, 0 where no surface
+  std::vector<uint8_t> object_id;    ///< RenderItem::object_id, 0 for background
+};
+
+struct SceneRendererOptions {
+  std::array<float, 3> sky_linear = {0.42f, 0.56f, 0.78f};  ///< background colour, linear RGB
+  float max_anisotropy = 16.0f;  ///< texture anisotropy cap (the device's limit applies too)
+};
+
+class SceneRenderer {
+ public:
+  SceneRenderer(VulkanContext& context, int width, int height, const SceneRendererOptions& options = {});
+  ~SceneRenderer();
+  SceneRenderer(const SceneRenderer&) = delete;
+  SceneRenderer& operator=(const SceneRenderer&) = delete;
+
+  /// Uploads a model; returns its index for RenderItem::model.
+  int AddModel(const SceneModel& model);
+
+  LinearImage RenderColor(const Camera& camera, double near_m, const std::vector<RenderItem>& items,
+                          const MsaaPlan& plan, ViewTimings* timings = nullptr);
+  GroundTruthImage RenderGroundTruth(const Camera& camera, double near_m, const std::vector<RenderItem>& items);
+
+ private:
+  struct Target;
+  struct GpuModel;
+  void UploadTexture(const TextureMips& mips);
+  Target& TargetFor(int samples, bool ground_truth);
+  void Record(VkCommandBuffer cmd, Target& target, const Eigen::Matrix4d& clip_from_tanker,
+              const std::vector<RenderItem>& items, bool ground_truth);
+  void ReadBack(const Target& target);
+
+  VulkanContext& context_;
+  int width_;
+  int height_;
+  SceneRendererOptions options_;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
+  VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
+  VkSampler sampler_ = VK_NULL_HANDLE;
+  VkShaderModule vert_ = VK_NULL_HANDLE;
+  VkShaderModule frag_ = VK_NULL_HANDLE;
+  VkShaderModule depth_frag_ = VK_NULL_HANDLE;
+  std::vector<std::unique_ptr<GpuModel>> models_;
+  std::vector<GpuImage> textures_;
+  std::vector<VkDescriptorSet> texture_sets_;  ///< one per texture; [0] is a 1x1 white texture
+  std::map<std::pair<int, bool>, std::unique_ptr<Target>> targets_;
+  GpuBuffer readback_;
+};
+
+}  // namespace aar

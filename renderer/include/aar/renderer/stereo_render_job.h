@@ -1,0 +1,50 @@
+#pragma once
+// The two rendering jobs behind `aar-render render` and `aar-render calib`:
+// validate every input, then render stereo pairs into a dataset folder,
+// skipping frames that are already complete and verified (resume), and
+// finalize the manifest when the dataset is complete.
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+
+#include "aar/frame_selection.h"
+
+namespace aar {
+
+struct RenderJobOptions {
+  std::filesystem::path output;                                     ///< dataset folder (created)
+  std::filesystem::path rig = "scenes/rig.json";                    ///< camera rig
+  std::filesystem::path receiver_model = "scenes/c12.glb";          ///< receiver glTF
+  std::filesystem::path tanker_model = "scenes/kc46.glb";           ///< tanker glTF
+  std::filesystem::path board_model = "scenes/calib_board.glb";     ///< calibration board glTF (calib job)
+  std::filesystem::path flight_path = "flightpaths/conops.csv";     ///< flight path (render job)
+  int msaa = 16;                                                    ///< 1, 4, 8, 16 or 32 samples per pixel
+  bool depth = false;                                               ///< also write left-camera depth EXR (render job)
+  FrameSelection selection;                                         ///< frames (or calib pairs) to render
+  std::string device;                                               ///< Vulkan device name filter ("" = lavapipe first)
+  bool progress = true;                                             ///< progress line on stderr
+};
+
+/// Accumulated wall time per stage over the pairs rendered [ms].
+struct StageTimes {
+  double render_ms = 0.0;    ///< GPU passes (all MSAA passes of both views)
+  double readback_ms = 0.0;  ///< copies to host memory, half-to-float, averaging
+  double encode_ms = 0.0;    ///< sRGB conversion and PNG (and EXR) encoding
+  double write_ms = 0.0;     ///< hashing and atomic writes of images and sidecars
+};
+
+struct RenderJobResult {
+  size_t selected = 0;   ///< pairs in the selection
+  size_t rendered = 0;   ///< pairs rendered by this run
+  size_t skipped = 0;    ///< pairs already complete and verified
+  bool complete = false; ///< the whole dataset is complete (manifest finalized)
+  StageTimes times;
+  std::string msaa_method;  ///< "native" or "composed"
+  std::string device;       ///< Vulkan device name
+};
+
+RenderJobResult RenderFlightPathJob(const RenderJobOptions& options);
+RenderJobResult RenderCalibrationJob(const RenderJobOptions& options);
+
+}  // namespace aar

@@ -1,0 +1,87 @@
+#include "aar/renderer/dataset_writer.h"
+
+#include <vector>
+
+#include "aar/dataset.h"
+#include "aar/error.h"
+#include "aar/file_io.h"
+
+namespace aar {
+namespace {
+
+// Compares `wanted` against `existing` key by key (objects recursively, keys
+// missing from `existing` are new sections and fine); returns
+// "key.path: was X, now Y" for the first difference, or "" when compatible.
+std::string FirstMismatch(const nlohmann::json& wanted, const nlohmann::json& existing, const std::string& prefix) {
+  if (wanted.is_object() && existing.is_object()) {
+    for (const auto& [key, value] : wanted.items()) {
+      if (!existing.contains(key)) continue;
+      const std::string where = FirstMismatch(value, existing.at(key), prefix.empty() ? key : prefix + "." + key);
+      if (!where.empty()) return where;
+    }
+    return "";
+  }
+  if (wanted == existing) return "";
+  return prefix + ": was " + existing.dump() + ", now " + wanted.dump();
+}
+
+}  // namespace
+
+nlohmann::json RendererIdentity() {
+  return {{"name", "aar-render"}, {"version", AAR_VERSION}, {"git", AAR_GIT_HASH}};
+}
+
+void OpenManifest(const std::filesystem::path& dataset, const nlohmann::json& header) {
+  const std::filesystem::path path = dataset / kManifestName;
+  nlohmann::json manifest = nlohmann::json::object();
+  if (std::filesystem::exists(path)) {
+    manifest = ReadManifest(dataset).json;
+    const std::string mismatch = FirstMismatch(header, manifest, "");
+    if (!mismatch.empty()) {
+      throw Error(path.string() + ": the dataset was made with other settings (" + mismatch +
+                  "); render into a new folder or repeat the original settings");
+    }
+  }
+  manifest.merge_patch(header);
+  if (!manifest.contains("files")) manifest["files"] = nlohmann::json::object();
+  if (!manifest.contains("complete")) manifest["complete"] = false;
+  WriteJsonFile(path, manifest);
+}
+
+std::string CopyInput(const std::filesystem::path& dataset, const std::filesystem::path& source,
+                      const std::string& name) {
+  const std::string bytes = ReadFileBytes(source);
+  const std::string hash = Sha256Hex(bytes);
+  const std::filesystem::path target = dataset / name;
+  if (!std::filesystem::is_regular_file(target) || Sha256File(target) != hash) WriteFileAtomic(target, bytes);
+  return hash;
+}
+
+bool FinalizeManifest(const std::filesystem::path& dataset) {
+  Manifest manifest = ReadManifest(dataset);
+  nlohmann::json files = nlohmann::json::object();
+  bool complete = true;
+  for (const char* name : {kRigName, kFlightPathName, kReceiverModelName, kIdealCalibrationName}) {
+    if (std::filesystem::is_regular_file(dataset / name)) files[name] = Sha256File(dataset / name);
+  }
+  const std::pair<const char*, size_t> groups[] = {{"frame", manifest.frame_count},
+                                                   {"calib", manifest.calib_pair_count}};
+  for (const auto& [kind, count] : groups) {
+    for (size_t i = 0; i < count; ++i) {
+      const std::filesystem::path sidecar = SidecarPath(dataset, kind, i);
+      if (!std::filesystem::is_regular_file(sidecar)) {
+        complete = false;
+        continue;
+      }
+      const FrameSidecar s = ReadSidecar(sidecar);
+      for (const auto& [role, ref] : s.files) files[ref.path] = ref.sha256;
+      files[std::filesystem::relative(sidecar, dataset).generic_string()] = Sha256File(sidecar);
+    }
+  }
+  manifest.json["files"] = files;
+  manifest.json["complete"] = complete;
+  WriteJsonFile(dataset / kManifestName, manifest.json);
+  return complete;
+}
+
+}  // namespace aar

@@ -1,0 +1,267 @@
+#include "aar/renderer/scene_model.h"
+
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <optional>
+
+#include <Eigen/Geometry>
+
+#include "aar/error.h"
+#include "aar/pose.h"
+
+namespace aar {
+namespace {
+
+Eigen::Matrix4d NodeLocalMatrix(const tinygltf::Node& node) {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  if (node.matrix.size() == 16) {
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) m(r, c) = node.matrix[c * 4 + r];  // glTF is column-major
+    return m;
+  }
+  Eigen::Affine3d t = Eigen::Affine3d::Identity();
+  if (node.translation.size() == 3) t.translate(Eigen::Vector3d(node.translation[0], node.translation[1], node.translation[2]));
+  if (node.rotation.size() == 4) {
+    t.rotate(Eigen::Quaterniond(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]).normalized());
+  }
+  if (node.scale.size() == 3) t.scale(Eigen::Vector3d(node.scale[0], node.scale[1], node.scale[2]));
+  return t.matrix();
+}
+
+// Reads accessor element i as up to 4 floats (float or normalized integer components).
+class AccessorReader {
+ public:
+  AccessorReader(const tinygltf::Model& model, int accessor_index, const std::string& where) {
+    if (accessor_index < 0 || accessor_index >= static_cast<int>(model.accessors.size())) {
+      throw Error(where + ": bad accessor index");
+    }
+    accessor_ = &model.accessors[accessor_index];
+    if (accessor_->bufferView < 0) throw Error(where + ": sparse/empty accessors are not supported");
+    const tinygltf::BufferView& view = model.bufferViews.at(accessor_->bufferView);
+    const tinygltf::Buffer& buffer = model.buffers.at(view.buffer);
+    components_ = tinygltf::GetNumComponentsInType(accessor_->type);
+    component_size_ = tinygltf::GetComponentSizeInBytes(accessor_->componentType);
+    stride_ = accessor_->ByteStride(view);
+    if (components_ <= 0 || component_size_ <= 0 || stride_ <= 0) throw Error(where + ": malformed accessor");
+    const size_t offset = view.byteOffset + accessor_->byteOffset;
+    const size_t needed = accessor_->count == 0 ? 0 : offset + (accessor_->count - 1) * stride_ + components_ * component_size_;
+    if (needed > buffer.data.size()) throw Error(where + ": accessor runs past the end of its buffer");
+    data_ = buffer.data.data() + offset;
+  }
+  size_t count() const { return accessor_->count; }
+  double Component(size_t i, int c) const {
+    const unsigned char* p = data_ + i * stride_ + c * component_size_;
+    switch (accessor_->componentType) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, p, 4); return v; }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, p, 4); return accessor_->normalized ? v / 4294967295.0 : v; }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p, 2); return accessor_->normalized ? v / 65535.0 : v; }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return accessor_->normalized ? *p / 255.0 : *p;
+      case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t v; std::memcpy(&v, p, 2); return accessor_->normalized ? std::max(v / 32767.0, -1.0) : v; }
+      case TINYGLTF_COMPONENT_TYPE_BYTE: { int8_t v; std::memcpy(&v, p, 1); return accessor_->normalized ? std::max(v / 127.0, -1.0) : v; }
+      default: return 0.0;
+    }
+  }
+  int components() const { return components_; }
+
+ private:
+  const tinygltf::Accessor* accessor_ = nullptr;
+  const unsigned char* data_ = nullptr;
+  int components_ = 0;
+  int component_size_ = 0;
+  int stride_ = 0;
+};
+
+void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim, const Eigen::Matrix4d& body_from_node,
+                     const std::string& where, std::vector<int>& texture_of_image, SceneModel& out) {
+  if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) return;  // points and lines are not rendered
+  const auto position = prim.attributes.find("POSITION");
+  if (position == prim.attributes.end()) throw Error(where + ": primitive without POSITION");
+  AccessorReader positions(model, position->second, where);
+  std::optional<AccessorReader> normals, uvs;
+  if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) normals.emplace(model, it->second, where);
+  if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) uvs.emplace(model, it->second, where);
+
+  Primitive p;
+  const Eigen::Matrix3d linear = body_from_node.topLeftCorner<3, 3>();
+  const Eigen::Matrix3d normal_matrix = linear.inverse().transpose();
+  p.vertices.resize(positions.count());
+  for (size_t i = 0; i < positions.count(); ++i) {
+    const Eigen::Vector3d x = linear * Eigen::Vector3d(positions.Component(i, 0), positions.Component(i, 1),
+                                                       positions.Component(i, 2)) +
+                              body_from_node.topRightCorner<3, 1>();
+    Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
+    if (normals && i < normals->count()) {
+      n = (normal_matrix * Eigen::Vector3d(normals->Component(i, 0), normals->Component(i, 1), normals->Component(i, 2)));
+      if (n.norm() > 0) n.normalize();
+    }
+    Vertex& v = p.vertices[i];
+    for (int c = 0; c < 3; ++c) {
+      v.position[c] = static_cast<float>(x(c));
+      v.normal[c] = static_cast<float>(n(c));
+    }
+    v.uv[0] = uvs && i < uvs->count() ? static_cast<float>(uvs->Component(i, 0)) : 0.0f;
+    v.uv[1] = uvs && i < uvs->count() ? static_cast<float>(uvs->Component(i, 1)) : 0.0f;
+  }
+  if (prim.indices >= 0) {
+    AccessorReader indices(model, prim.indices, where);
+    p.indices.resize(indices.count());
+    for (size_t i = 0; i < indices.count(); ++i) {
+      const double index = indices.Component(i, 0);
+      if (index < 0 || index >= static_cast<double>(p.vertices.size())) throw Error(where + ": index out of range");
+      p.indices[i] = static_cast<uint32_t>(index);
+    }
+  } else {
+    p.indices.resize(p.vertices.size());
+    for (size_t i = 0; i < p.indices.size(); ++i) p.indices[i] = static_cast<uint32_t>(i);
+  }
+  p.indices.resize(p.indices.size() / 3 * 3);
+  if (p.indices.empty()) return;
+  if (!normals) {  // Flat normals from the faces, accumulated per vertex.
+    std::vector<Eigen::Vector3d> acc(p.vertices.size(), Eigen::Vector3d::Zero());
+    for (size_t t = 0; t < p.indices.size(); t += 3) {
+      Eigen::Vector3f a(p.vertices[p.indices[t]].position), b(p.vertices[p.indices[t + 1]].position),
+          c(p.vertices[p.indices[t + 2]].position);
+      const Eigen::Vector3d n = ((b - a).cross(c - a)).cast<double>();
+      for (int k = 0; k < 3; ++k) acc[p.indices[t + k]] += n;
+    }
+    for (size_t i = 0; i < acc.size(); ++i) {
+      const Eigen::Vector3d n = acc[i].norm() > 0 ? acc[i].normalized() : Eigen::Vector3d::UnitZ();
+      for (int c = 0; c < 3; ++c) p.vertices[i].normal[c] = static_cast<float>(n(c));
+    }
+  }
+  if (prim.material >= 0 && prim.material < static_cast<int>(model.materials.size())) {
+    const tinygltf::PbrMetallicRoughness& pbr = model.materials[prim.material].pbrMetallicRoughness;
+    for (int c = 0; c < 4 && c < static_cast<int>(pbr.baseColorFactor.size()); ++c) {
+      p.base_color_factor[c] = static_cast<float>(pbr.baseColorFactor[c]);
+    }
+    const int texture = pbr.baseColorTexture.index;
+    if (texture >= 0 && texture < static_cast<int>(model.textures.size())) {
+      const int source = model.textures[texture].source;
+      if (source < 0 || source >= static_cast<int>(model.images.size())) throw Error(where + ": texture without image");
+      if (texture_of_image[source] < 0) {
+        const tinygltf::Image& image = model.images[source];
+        if (image.bits != 8 || image.width <= 0 || image.height <= 0 || image.image.empty()) {
+          throw Error(where + ": image " + std::to_string(source) + " is not a decodable 8-bit image");
+        }
+        // Expand grey, grey+alpha and RGB to RGBA.
+        const int comp = image.component;
+        const size_t pixels = static_cast<size_t>(image.width) * image.height;
+        std::vector<uint8_t> rgba(pixels * 4, 255);
+        for (size_t px = 0; px < pixels; ++px) {
+          const uint8_t* src = &image.image[px * comp];
+          uint8_t* dst = &rgba[px * 4];
+          for (int c = 0; c < 3; ++c) dst[c] = comp >= 3 ? src[c] : src[0];
+          if (comp == 2 || comp == 4) dst[3] = src[comp - 1];
+        }
+        texture_of_image[source] = static_cast<int>(out.textures.size());
+        out.textures.push_back(BuildMips(std::move(rgba), image.width, image.height));
+      }
+      p.texture = texture_of_image[source];
+    }
+  }
+  out.primitives.push_back(std::move(p));
+}
+
+void VisitNode(const tinygltf::Model& model, int node_index, const Eigen::Matrix4d& parent, const std::string& where,
+               int depth, std::vector<int>& texture_of_image, SceneModel& out) {
+  if (node_index < 0 || node_index >= static_cast<int>(model.nodes.size()) || depth > 64) {
+    throw Error(where + ": bad node hierarchy");
+  }
+  const tinygltf::Node& node = model.nodes[node_index];
+  const Eigen::Matrix4d m = parent * NodeLocalMatrix(node);
+  if (node.mesh >= 0) {
+    if (node.mesh >= static_cast<int>(model.meshes.size())) throw Error(where + ": bad mesh index");
+    for (const tinygltf::Primitive& prim : model.meshes[node.mesh].primitives) {
+      AppendPrimitive(model, prim, m, where, texture_of_image, out);
+    }
+  }
+  for (int child : node.children) VisitNode(model, child, m, where, depth + 1, texture_of_image, out);
+}
+
+}  // namespace
+
+float SrgbToLinear(float s) { return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f); }
+
+float LinearToSrgb(float l) {
+  l = std::clamp(l, 0.0f, 1.0f);
+  return l <= 0.0031308f ? 12.92f * l : 1.055f * std::pow(l, 1.0f / 2.4f) - 0.055f;
+}
+
+uint8_t LinearToSrgb8(float linear) {
+  return static_cast<uint8_t>(std::lround(LinearToSrgb(linear) * 255.0f));
+}
+
+TextureMips BuildMips(std::vector<uint8_t> rgba, int width, int height) {
+  TextureMips mips;
+  float to_linear[256];
+  for (int i = 0; i < 256; ++i) to_linear[i] = SrgbToLinear(i / 255.0f);
+  mips.levels.push_back(std::move(rgba));
+  mips.sizes.push_back({width, height});
+  while (width > 1 || height > 1) {
+    const int w2 = std::max(1, width / 2);
+    const int h2 = std::max(1, height / 2);
+    const std::vector<uint8_t>& src = mips.levels.back();
+    std::vector<uint8_t> dst(static_cast<size_t>(w2) * h2 * 4);
+    for (int y = 0; y < h2; ++y) {
+      for (int x = 0; x < w2; ++x) {
+        const int x0 = std::min(2 * x, width - 1), x1 = std::min(2 * x + 1, width - 1);
+        const int y0 = std::min(2 * y, height - 1), y1 = std::min(2 * y + 1, height - 1);
+        for (int c = 0; c < 4; ++c) {
+          auto at = [&](int xx, int yy) { return src[(static_cast<size_t>(yy) * width + xx) * 4 + c]; };
+          if (c == 3) {
+            dst[(static_cast<size_t>(y) * w2 + x) * 4 + c] =
+                static_cast<uint8_t>((at(x0, y0) + at(x1, y0) + at(x0, y1) + at(x1, y1) + 2) / 4);
+          } else {
+            const float mean = 0.25f * (to_linear[at(x0, y0)] + to_linear[at(x1, y0)] + to_linear[at(x0, y1)] +
+                                        to_linear[at(x1, y1)]);
+            dst[(static_cast<size_t>(y) * w2 + x) * 4 + c] = LinearToSrgb8(mean);
+          }
+        }
+      }
+    }
+    mips.levels.push_back(std::move(dst));
+    mips.sizes.push_back({w2, h2});
+    width = w2;
+    height = h2;
+  }
+  return mips;
+}
+
+std::vector<Eigen::Vector3d> SceneModel::AllPositions() const {
+  std::vector<Eigen::Vector3d> positions;
+  for (const Primitive& p : primitives) {
+    for (const Vertex& v : p.vertices) positions.emplace_back(v.position[0], v.position[1], v.position[2]);
+  }
+  return positions;
+}
+
+SceneModel LoadSceneModel(const std::filesystem::path& path) {
+  const std::string where = path.string();
+  if (!std::filesystem::is_regular_file(path)) throw Error(where + ": model file not found");
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string error, warning;
+  const bool binary = path.extension() == ".glb";
+  const bool ok = binary ? loader.LoadBinaryFromFile(&model, &error, &warning, where)
+                         : loader.LoadASCIIFromFile(&model, &error, &warning, where);
+  if (!ok) {
+    std::string reason = error.empty() ? "unknown error" : error;
+    std::replace(reason.begin(), reason.end(), '\n', ' ');
+    throw Error(where + ": not a valid glTF 2.0 file (" + reason + ")");
+  }
+  SceneModel out;
+  out.path = path;
+  std::vector<int> texture_of_image(model.images.size(), -1);
+  Eigen::Matrix4d body_from_gltf = Eigen::Matrix4d::Identity();
+  body_from_gltf.topLeftCorner<3, 3>() = BodyFromGltf();
+  const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+  if (scene >= static_cast<int>(model.scenes.size())) throw Error(where + ": no scene");
+  for (int node : model.scenes[scene].nodes) VisitNode(model, node, body_from_gltf, where, 0, texture_of_image, out);
+  if (out.primitives.empty()) throw Error(where + ": model has no triangles");
+  return out;
+}
+
+}  // namespace aar

@@ -1,0 +1,486 @@
+#include "aar/renderer/scene_renderer.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "aar/error.h"
+#include "aar/renderer/projection.h"
+#include "spirv/depth_frag.h"
+#include "spirv/scene_frag.h"
+#include "spirv/scene_vert.h"
+
+namespace aar {
+namespace {
+
+constexpr VkFormat kColorFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // linear colour, averaged by the resolve
+constexpr VkFormat kTruthFormat = VK_FORMAT_R32G32_SFLOAT;        // depth [m], object id
+constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+constexpr uint32_t kMaxTextures = 64;
+
+struct PushConstants {
+  float clip_from_object[16];            // column-major
+  float tanker_from_object_rows[3][4];   // rotation rows
+  float base_color_factor[4];
+};
+static_assert(sizeof(PushConstants) == 128, "push constants must fit the guaranteed 128 bytes");
+
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+float HalfToFloat(uint16_t h) {
+  const uint32_t sign = (h & 0x8000u) << 16;
+  uint32_t exponent = (h >> 10) & 0x1f;
+  uint32_t mantissa = h & 0x3ffu;
+  uint32_t bits;
+  if (exponent == 0) {
+    if (mantissa == 0) {
+      bits = sign;
+    } else {  // subnormal: normalise
+      exponent = 127 - 15 + 1;
+      while ((mantissa & 0x400u) == 0) {
+        mantissa <<= 1;
+        --exponent;
+      }
+      bits = sign | (exponent << 23) | ((mantissa & 0x3ffu) << 13);
+    }
+  } else if (exponent == 31) {
+    bits = sign | 0x7f800000u | (mantissa << 13);
+  } else {
+    bits = sign | ((exponent + 127 - 15) << 23) | (mantissa << 13);
+  }
+  float f;
+  std::memcpy(&f, &bits, 4);
+  return f;
+}
+
+VkShaderModule CreateShader(VkDevice device, const uint32_t* code, size_t bytes) {
+  VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  info.codeSize = bytes;
+  info.pCode = code;
+  VkShaderModule module = VK_NULL_HANDLE;
+  VkCheck(vkCreateShaderModule(device, &info, nullptr, &module), "vkCreateShaderModule");
+  return module;
+}
+
+}  // namespace
+
+struct SceneRenderer::GpuModel {
+  struct Draw {
+    uint32_t first_index = 0;
+    uint32_t index_count = 0;
+    int32_t vertex_offset = 0;
+    int texture_set = 0;
+    std::array<float, 4> base_color_factor{};
+  };
+  GpuBuffer vertices;
+  GpuBuffer indices;
+  std::vector<Draw> draws;
+};
+
+struct SceneRenderer::Target {
+  VkDevice device = VK_NULL_HANDLE;
+  int samples = 1;
+  bool ground_truth = false;
+  GpuImage color;    // multisampled when samples > 1
+  GpuImage depth;
+  GpuImage resolve;  // single-sample copy source when samples > 1
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  VkFramebuffer framebuffer = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  const GpuImage& Output() const { return samples > 1 ? resolve : color; }
+  ~Target() {
+    if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
+    if (framebuffer) vkDestroyFramebuffer(device, framebuffer, nullptr);
+    if (render_pass) vkDestroyRenderPass(device, render_pass, nullptr);
+  }
+};
+
+SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, const SceneRendererOptions& options)
+    : context_(context), width_(width), height_(height), options_(options) {
+  VkDevice device = context_.device();
+  VkDescriptorSetLayoutBinding binding{};
+  binding.binding = 0;
+  binding.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  binding.descriptorCount = 1;
+  binding.stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
+  VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  set_info.bindingCount = 1;
+  set_info.pBindings = &binding;
+  VkCheck(vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout_), "vkCreateDescriptorSetLayout");
+
+  VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(PushConstants)};
+  VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layout_info.setLayoutCount = 1;
+  layout_info.pSetLayouts = &set_layout_;
+  layout_info.pushConstantRangeCount = 1;
+  layout_info.pPushConstantRanges = &range;
+  VkCheck(vkCreatePipelineLayout(device, &layout_info, nullptr, &pipeline_layout_), "vkCreatePipelineLayout");
+
+  VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kMaxTextures};
+  VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  pool_info.maxSets = kMaxTextures;
+  pool_info.poolSizeCount = 1;
+  pool_info.pPoolSizes = &pool_size;
+  VkCheck(vkCreateDescriptorPool(device, &pool_info, nullptr, &descriptor_pool_), "vkCreateDescriptorPool");
+
+  VkSamplerCreateInfo sampler{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  sampler.magFilter = VK_FILTER_LINEAR;
+  sampler.minFilter = VK_FILTER_LINEAR;
+  sampler.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
+  sampler.addressModeU = sampler.addressModeV = sampler.addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  const float anisotropy = std::min(options_.max_anisotropy, context_.info().max_anisotropy);
+  sampler.anisotropyEnable = anisotropy > 1.0f ? VK_TRUE : VK_FALSE;
+  sampler.maxAnisotropy = anisotropy;
+  sampler.maxLod = VK_LOD_CLAMP_NONE;
+  VkCheck(vkCreateSampler(device, &sampler, nullptr, &sampler_), "vkCreateSampler");
+
+  vert_ = CreateShader(device, kSpirv_scene_vert, sizeof(kSpirv_scene_vert));
+  frag_ = CreateShader(device, kSpirv_scene_frag, sizeof(kSpirv_scene_frag));
+  depth_frag_ = CreateShader(device, kSpirv_depth_frag, sizeof(kSpirv_depth_frag));
+
+  readback_ = GpuBuffer(context_, static_cast<VkDeviceSize>(width_) * height_ * 8, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                        /*host_visible=*/true);
+
+  // Texture set 0: 1x1 white, for primitives without a base colour texture.
+  UploadTexture(BuildMips({255, 255, 255, 255}, 1, 1));
+}
+
+SceneRenderer::~SceneRenderer() {
+  VkDevice device = context_.device();
+  vkDeviceWaitIdle(device);
+  targets_.clear();
+  for (VkShaderModule m : {vert_, frag_, depth_frag_}) {
+    if (m) vkDestroyShaderModule(device, m, nullptr);
+  }
+  if (sampler_) vkDestroySampler(device, sampler_, nullptr);
+  if (descriptor_pool_) vkDestroyDescriptorPool(device, descriptor_pool_, nullptr);
+  if (pipeline_layout_) vkDestroyPipelineLayout(device, pipeline_layout_, nullptr);
+  if (set_layout_) vkDestroyDescriptorSetLayout(device, set_layout_, nullptr);
+}
+
+void SceneRenderer::UploadTexture(const TextureMips& mips) {
+  if (texture_sets_.size() >= kMaxTextures) throw Error("too many textures (limit " + std::to_string(kMaxTextures) + ")");
+  VkDeviceSize total = 0;
+  for (const auto& level : mips.levels) total += level.size();
+  GpuBuffer staging(context_, total, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
+  std::vector<VkBufferImageCopy> copies;
+  VkDeviceSize offset = 0;
+  for (size_t l = 0; l < mips.levels.size(); ++l) {
+    std::memcpy(static_cast<uint8_t*>(staging.mapped()) + offset, mips.levels[l].data(), mips.levels[l].size());
+    VkBufferImageCopy copy{};
+    copy.bufferOffset = offset;
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, static_cast<uint32_t>(l), 0, 1};
+    copy.imageExtent = {static_cast<uint32_t>(mips.sizes[l][0]), static_cast<uint32_t>(mips.sizes[l][1]), 1};
+    copies.push_back(copy);
+    offset += mips.levels[l].size();
+  }
+  GpuImageDesc desc;
+  desc.width = mips.sizes[0][0];
+  desc.height = mips.sizes[0][1];
+  desc.mip_levels = static_cast<uint32_t>(mips.levels.size());
+  desc.format = VK_FORMAT_R8G8B8A8_SRGB;
+  desc.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  GpuImage image(context_, desc);
+  context_.SubmitAndWait([&](VkCommandBuffer cmd) {
+    TransitionImage(cmd, image.image(), VK_IMAGE_ASPECT_COLOR_BIT, desc.mip_levels, VK_IMAGE_LAYOUT_UNDEFINED,
+                    VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    vkCmdCopyBufferToImage(cmd, staging.buffer(), image.image(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                           static_cast<uint32_t>(copies.size()), copies.data());
+    TransitionImage(cmd, image.image(), VK_IMAGE_ASPECT_COLOR_BIT, desc.mip_levels,
+                    VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  });
+  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  alloc.descriptorPool = descriptor_pool_;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &set_layout_;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  VkCheck(vkAllocateDescriptorSets(context_.device(), &alloc, &set), "vkAllocateDescriptorSets");
+  VkDescriptorImageInfo image_info{sampler_, image.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  write.dstSet = set;
+  write.descriptorCount = 1;
+  write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  write.pImageInfo = &image_info;
+  vkUpdateDescriptorSets(context_.device(), 1, &write, 0, nullptr);
+  textures_.push_back(std::move(image));
+  texture_sets_.push_back(set);
+}
+
+int SceneRenderer::AddModel(const SceneModel& model) {
+  // Textures: staging buffer -> optimal-tiling sRGB image with the CPU-built mip chain.
+  const int first_set = static_cast<int>(texture_sets_.size());
+  for (const TextureMips& mips : model.textures) UploadTexture(mips);
+
+  // Geometry: one vertex and one index buffer per model.
+  auto gpu = std::make_unique<GpuModel>();
+  size_t vertex_count = 0, index_count = 0;
+  for (const Primitive& p : model.primitives) {
+    vertex_count += p.vertices.size();
+    index_count += p.indices.size();
+  }
+  if (vertex_count > 0) {
+    gpu->vertices = GpuBuffer(context_, vertex_count * sizeof(Vertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, true);
+    gpu->indices = GpuBuffer(context_, index_count * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT, true);
+    size_t v = 0, i = 0;
+    for (const Primitive& p : model.primitives) {
+      std::memcpy(static_cast<Vertex*>(gpu->vertices.mapped()) + v, p.vertices.data(), p.vertices.size() * sizeof(Vertex));
+      std::memcpy(static_cast<uint32_t*>(gpu->indices.mapped()) + i, p.indices.data(), p.indices.size() * sizeof(uint32_t));
+      GpuModel::Draw draw;
+      draw.first_index = static_cast<uint32_t>(i);
+      draw.index_count = static_cast<uint32_t>(p.indices.size());
+      draw.vertex_offset = static_cast<int32_t>(v);
+      draw.texture_set = p.texture >= 0 ? first_set + p.texture : 0;
+      draw.base_color_factor = p.base_color_factor;
+      gpu->draws.push_back(draw);
+      v += p.vertices.size();
+      i += p.indices.size();
+    }
+  }
+  models_.push_back(std::move(gpu));
+  return static_cast<int>(models_.size()) - 1;
+}
+
+SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) {
+  auto& slot = targets_[{samples, ground_truth}];
+  if (slot) return *slot;
+  auto t = std::make_unique<Target>();
+  t->device = context_.device();
+  t->samples = samples;
+  t->ground_truth = ground_truth;
+  const VkFormat color_format = ground_truth ? kTruthFormat : kColorFormat;
+  const auto sample_bits = static_cast<VkSampleCountFlagBits>(samples);
+  const uint32_t w = static_cast<uint32_t>(width_), h = static_cast<uint32_t>(height_);
+  GpuImageDesc color{w, h, 1, color_format, sample_bits,
+                     static_cast<VkImageUsageFlags>(VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
+                                                    (samples == 1 ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0)),
+                     VK_IMAGE_ASPECT_COLOR_BIT};
+  t->color = GpuImage(context_, color);
+  t->depth = GpuImage(context_, {w, h, 1, kDepthFormat, sample_bits, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                                 VK_IMAGE_ASPECT_DEPTH_BIT});
+  if (samples > 1) {
+    t->resolve = GpuImage(context_, {w, h, 1, color_format, VK_SAMPLE_COUNT_1_BIT,
+                                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                     VK_IMAGE_ASPECT_COLOR_BIT});
+  }
+
+  std::vector<VkAttachmentDescription> attachments(samples > 1 ? 3 : 2);
+  attachments[0] = {0, color_format, sample_bits, VK_ATTACHMENT_LOAD_OP_CLEAR,
+                    samples > 1 ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
+                    VK_ATTACHMENT_LOAD_OP_DONT_CARE, VK_ATTACHMENT_STORE_OP_DONT_CARE, VK_IMAGE_LAYOUT_UNDEFINED,
+                    samples > 1 ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
+  attachments[1] = {0, kDepthFormat, sample_bits, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_DONT_CARE,
+                    VK_ATTACHMENT_LOAD_OP_DONT_CARE, VK_ATTACHMENT_STORE_OP_DONT_CARE, VK_IMAGE_LAYOUT_UNDEFINED,
+                    VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+  if (samples > 1) {
+    attachments[2] = {0, color_format, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                      VK_ATTACHMENT_STORE_OP_STORE, VK_ATTACHMENT_LOAD_OP_DONT_CARE, VK_ATTACHMENT_STORE_OP_DONT_CARE,
+                      VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
+  }
+  VkAttachmentReference color_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+  VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+  VkAttachmentReference resolve_ref{2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+  VkSubpassDescription subpass{};
+  subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  subpass.colorAttachmentCount = 1;
+  subpass.pColorAttachments = &color_ref;
+  subpass.pDepthStencilAttachment = &depth_ref;
+  subpass.pResolveAttachments = samples > 1 ? &resolve_ref : nullptr;
+  VkSubpassDependency dependency{};
+  dependency.srcSubpass = 0;
+  dependency.dstSubpass = VK_SUBPASS_EXTERNAL;
+  dependency.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  dependency.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+  dependency.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  dependency.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+  VkRenderPassCreateInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+  rp.attachmentCount = static_cast<uint32_t>(attachments.size());
+  rp.pAttachments = attachments.data();
+  rp.subpassCount = 1;
+  rp.pSubpasses = &subpass;
+  rp.dependencyCount = 1;
+  rp.pDependencies = &dependency;
+  VkCheck(vkCreateRenderPass(t->device, &rp, nullptr, &t->render_pass), "vkCreateRenderPass");
+
+  std::vector<VkImageView> views = {t->color.view(), t->depth.view()};
+  if (samples > 1) views.push_back(t->resolve.view());
+  VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+  fb.renderPass = t->render_pass;
+  fb.attachmentCount = static_cast<uint32_t>(views.size());
+  fb.pAttachments = views.data();
+  fb.width = w;
+  fb.height = h;
+  fb.layers = 1;
+  VkCheck(vkCreateFramebuffer(t->device, &fb, nullptr, &t->framebuffer), "vkCreateFramebuffer");
+
+  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+  stages[0].module = vert_;
+  stages[0].pName = "main";
+  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+  stages[1].module = ground_truth ? depth_frag_ : frag_;
+  stages[1].pName = "main";
+  VkVertexInputBindingDescription binding{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX};
+  VkVertexInputAttributeDescription attributes[3] = {
+      {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, position)},
+      {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, normal)},
+      {2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv)}};
+  VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  vertex_input.vertexBindingDescriptionCount = 1;
+  vertex_input.pVertexBindingDescriptions = &binding;
+  vertex_input.vertexAttributeDescriptionCount = 3;
+  vertex_input.pVertexAttributeDescriptions = attributes;
+  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  VkViewport viewport{0.0f, 0.0f, static_cast<float>(w), static_cast<float>(h), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, {w, h}};
+  VkPipelineViewportStateCreateInfo viewport_state{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+  viewport_state.viewportCount = 1;
+  viewport_state.pViewports = &viewport;
+  viewport_state.scissorCount = 1;
+  viewport_state.pScissors = &scissor;
+  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+  raster.polygonMode = VK_POLYGON_MODE_FILL;
+  raster.cullMode = VK_CULL_MODE_NONE;  // models are double-sided
+  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+  raster.lineWidth = 1.0f;
+  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+  multisample.rasterizationSamples = sample_bits;
+  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  depth.depthTestEnable = VK_TRUE;
+  depth.depthWriteEnable = VK_TRUE;
+  depth.depthCompareOp = VK_COMPARE_OP_GREATER;  // reversed depth
+  VkPipelineColorBlendAttachmentState blend_attachment{};
+  blend_attachment.colorWriteMask =
+      VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  blend.attachmentCount = 1;
+  blend.pAttachments = &blend_attachment;
+  VkGraphicsPipelineCreateInfo pipeline{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+  pipeline.stageCount = 2;
+  pipeline.pStages = stages;
+  pipeline.pVertexInputState = &vertex_input;
+  pipeline.pInputAssemblyState = &assembly;
+  pipeline.pViewportState = &viewport_state;
+  pipeline.pRasterizationState = &raster;
+  pipeline.pMultisampleState = &multisample;
+  pipeline.pDepthStencilState = &depth;
+  pipeline.pColorBlendState = &blend;
+  pipeline.layout = pipeline_layout_;
+  pipeline.renderPass = t->render_pass;
+  VkCheck(vkCreateGraphicsPipelines(t->device, VK_NULL_HANDLE, 1, &pipeline, nullptr, &t->pipeline),
+          "vkCreateGraphicsPipelines");
+  slot = std::move(t);
+  return *slot;
+}
+
+void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Matrix4d& clip_from_tanker,
+                           const std::vector<RenderItem>& items, bool ground_truth) {
+  VkClearValue clears[2]{};
+  if (ground_truth) {
+    clears[0].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
+  } else {
+    clears[0].color = {{options_.sky_linear[0], options_.sky_linear[1], options_.sky_linear[2], 1.0f}};
+  }
+  clears[1].depthStencil = {0.0f, 0};  // reversed depth: 0 is infinitely far
+  VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  begin.renderPass = target.render_pass;
+  begin.framebuffer = target.framebuffer;
+  begin.renderArea = {{0, 0}, {static_cast<uint32_t>(width_), static_cast<uint32_t>(height_)}};
+  begin.clearValueCount = 2;
+  begin.pClearValues = clears;
+  vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, target.pipeline);
+  for (const RenderItem& item : items) {
+    if (item.model < 0 || item.model >= static_cast<int>(models_.size())) throw Error("render item: bad model index");
+    const GpuModel& model = *models_[item.model];
+    if (model.draws.empty()) continue;
+    PushConstants pc{};
+    const Eigen::Matrix4f clip_from_object = (clip_from_tanker * item.tanker_from_object.matrix()).cast<float>();
+    std::memcpy(pc.clip_from_object, clip_from_object.data(), sizeof(pc.clip_from_object));
+    const Eigen::Matrix3d r = item.tanker_from_object.linear();
+    for (int row = 0; row < 3; ++row) {
+      for (int c = 0; c < 3; ++c) pc.tanker_from_object_rows[row][c] = static_cast<float>(r(row, c));
+    }
+    const VkDeviceSize zero = 0;
+    VkBuffer vertex_buffer = model.vertices.buffer();
+    vkCmdBindVertexBuffers(cmd, 0, 1, &vertex_buffer, &zero);
+    vkCmdBindIndexBuffer(cmd, model.indices.buffer(), 0, VK_INDEX_TYPE_UINT32);
+    for (const GpuModel::Draw& draw : model.draws) {
+      std::memcpy(pc.base_color_factor, draw.base_color_factor.data(), sizeof(pc.base_color_factor));
+      if (ground_truth) pc.base_color_factor[3] = item.object_id;
+      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_layout_, 0, 1,
+                              &texture_sets_[draw.texture_set], 0, nullptr);
+      vkCmdPushConstants(cmd, pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                         sizeof(PushConstants), &pc);
+      vkCmdDrawIndexed(cmd, draw.index_count, 1, draw.first_index, draw.vertex_offset, 0);
+    }
+  }
+  vkCmdEndRenderPass(cmd);
+}
+
+void SceneRenderer::ReadBack(const Target& target) {
+  context_.SubmitAndWait([&](VkCommandBuffer cmd) {
+    VkBufferImageCopy copy{};
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    copy.imageExtent = {static_cast<uint32_t>(width_), static_cast<uint32_t>(height_), 1};
+    vkCmdCopyImageToBuffer(cmd, target.Output().image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer(), 1,
+                           &copy);
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr,
+                         0, nullptr);
+  });
+}
+
+LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, const std::vector<RenderItem>& items,
+                                       const MsaaPlan& plan, ViewTimings* timings) {
+  Target& target = TargetFor(plan.native_samples, false);
+  LinearImage out;
+  out.width = width_;
+  out.height = height_;
+  out.rgb.assign(static_cast<size_t>(width_) * height_ * 3, 0.0f);
+  const Eigen::Matrix4d cam_from_tanker = camera.tanker_from_camera.inverse().matrix();
+  const float weight = 1.0f / static_cast<float>(plan.passes);
+  for (const Vec2& jitter : plan.offsets_px) {
+    auto start = std::chrono::steady_clock::now();
+    const Eigen::Matrix4d clip_from_tanker = ClipFromCamera(camera.intrinsics, near_m, jitter.x, jitter.y) * cam_from_tanker;
+    context_.SubmitAndWait([&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, items, false); });
+    if (timings) timings->render_ms += MillisecondsSince(start);
+    start = std::chrono::steady_clock::now();
+    ReadBack(target);
+    const uint16_t* half = static_cast<const uint16_t*>(readback_.mapped());
+    const size_t pixels = static_cast<size_t>(width_) * height_;
+    for (size_t i = 0; i < pixels; ++i) {
+      for (int c = 0; c < 3; ++c) out.rgb[i * 3 + c] += weight * HalfToFloat(half[i * 4 + c]);
+    }
+    if (timings) timings->readback_ms += MillisecondsSince(start);
+  }
+  return out;
+}
+
+GroundTruthImage SceneRenderer::RenderGroundTruth(const Camera& camera, double near_m,
+                                                  const std::vector<RenderItem>& items) {
+  Target& target = TargetFor(1, true);
+  const Eigen::Matrix4d clip_from_tanker =
+      ClipFromCamera(camera.intrinsics, near_m) * camera.tanker_from_camera.inverse().matrix();
+  context_.SubmitAndWait([&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, items, true); });
+  ReadBack(target);
+  GroundTruthImage out;
+  out.width = width_;
+  out.height = height_;
+  const size_t pixels = static_cast<size_t>(width_) * height_;
+  out.depth_m.resize(pixels);
+  out.object_id.resize(pixels);
+  const float* data = static_cast<const float*>(readback_.mapped());
+  for (size_t i = 0; i < pixels; ++i) {
+    out.depth_m[i] = data[i * 2];
+    out.object_id[i] = static_cast<uint8_t>(std::lround(data[i * 2 + 1]));
+  }
+  return out;
+}
+
+}  // namespace aar

@@ -1,0 +1,239 @@
+#include "aar/renderer/stereo_render_job.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <optional>
+
+#include "aar/dataset.h"
+#include "aar/error.h"
+#include "aar/file_io.h"
+#include "aar/flight_path.h"
+#include "aar/progress.h"
+#include "aar/region.h"
+#include "aar/renderer/calib_poses.h"
+#include "aar/renderer/dataset_writer.h"
+#include "aar/renderer/image_encode.h"
+#include "aar/renderer/msaa.h"
+#include "aar/renderer/projection.h"
+#include "aar/renderer/scene_renderer.h"
+#include "aar/stereo_calibration.h"
+
+namespace aar {
+namespace {
+
+constexpr float kReceiverId = 1.0f;
+constexpr float kTankerId = 2.0f;
+constexpr float kBoardId = 3.0f;
+
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Fails before anything is written when `dir` cannot be created or written.
+void CheckOutputFolder(const std::filesystem::path& dir) {
+  if (dir.empty()) throw Error("no output folder given");
+  std::filesystem::path probe = std::filesystem::absolute(dir);
+  while (!std::filesystem::exists(probe) && probe.has_parent_path() && probe != probe.parent_path()) {
+    probe = probe.parent_path();
+  }
+  if (!std::filesystem::is_directory(probe)) {
+    throw Error(dir.string() + ": cannot create output folder ('" + probe.string() + "' is not a folder)");
+  }
+  if (::access(probe.c_str(), W_OK) != 0) throw Error(dir.string() + ": output folder is not writable");
+}
+
+nlohmann::json DeviceJson(const DeviceInfo& d) {
+  return {{"name", d.name},           {"driver_name", d.driver_name},
+          {"driver_info", d.driver_info}, {"api_version", d.api_version},
+          {"vendor_id", d.vendor_id}, {"device_id", d.device_id},
+          {"type", d.device_type},    {"standard_sample_locations", d.standard_sample_locations}};
+}
+
+nlohmann::json MsaaJson(const MsaaPlan& plan) {
+  nlohmann::json offsets = nlohmann::json::array();
+  for (const Vec2& o : plan.offsets_px) offsets.push_back({o.x, o.y});
+  nlohmann::json pattern = nlohmann::json::array();
+  for (const Vec2& s : CompositeSamplePattern(plan)) pattern.push_back({s.x, s.y});
+  return {{"level", plan.level},
+          {"method", plan.method},
+          {"native_samples", plan.native_samples},
+          {"passes", plan.passes},
+          {"pass_offsets_px", offsets},
+          {"sample_positions_px", pattern},
+          {"averaging", "hardware resolve per pass, then mean of passes, in linear float colour"}};
+}
+
+struct Session {
+  StereoRig rig;
+  std::unique_ptr<VulkanContext> context;
+  std::unique_ptr<SceneRenderer> renderer;
+  MsaaPlan plan;
+};
+
+Session OpenSession(const RenderJobOptions& options, const StereoRig& rig) {
+  Session s;
+  s.rig = rig;
+  VulkanContextOptions vk;
+  vk.device_filter = options.device;
+  s.context = std::make_unique<VulkanContext>(vk);
+  s.plan = PlanMsaa(options.msaa, s.context->info().color_sample_counts);
+  s.renderer = std::make_unique<SceneRenderer>(*s.context, rig.left.intrinsics.width_px, rig.left.intrinsics.height_px);
+  return s;
+}
+
+// Renders, encodes and writes one stereo pair and its sidecar (written last).
+void WritePair(Session& session, const std::vector<RenderItem>& items, const std::filesystem::path& dataset,
+               const std::string& dir, FrameSidecar sidecar, bool depth, StageTimes& times) {
+  const std::string stem = FrameStem(sidecar.index);
+  for (const char* side : {"left", "right"}) {
+    const Camera& camera = std::string(side) == "left" ? session.rig.left : session.rig.right;
+    ViewTimings view;
+    const LinearImage image = session.renderer->RenderColor(camera, session.rig.near_m, items, session.plan, &view);
+    times.render_ms += view.render_ms;
+    times.readback_ms += view.readback_ms;
+    auto start = std::chrono::steady_clock::now();
+    const std::string png = EncodePng(ToSrgb8(image));
+    times.encode_ms += MillisecondsSince(start);
+    start = std::chrono::steady_clock::now();
+    const std::string relative = dir + "/" + stem + "_" + side + ".png";
+    WriteFileAtomic(dataset / relative, png);
+    sidecar.files[side] = FileRef{relative, Sha256Hex(png)};
+    times.write_ms += MillisecondsSince(start);
+  }
+  if (depth) {
+    auto start = std::chrono::steady_clock::now();
+    const GroundTruthImage truth = session.renderer->RenderGroundTruth(session.rig.left, session.rig.near_m, items);
+    times.render_ms += MillisecondsSince(start);
+    start = std::chrono::steady_clock::now();
+    const std::string relative = dir + "/" + stem + "_left_depth.exr";
+    sidecar.files["left_depth"] = FileRef{relative, WriteDepthExr(dataset / relative, truth)};
+    times.encode_ms += MillisecondsSince(start);
+  }
+  auto start = std::chrono::steady_clock::now();
+  WriteJsonFile(SidecarPath(dataset, sidecar.kind, sidecar.index), SidecarToJson(sidecar));
+  times.write_ms += MillisecondsSince(start);
+}
+
+// Shared loop: renders the selected pairs not yet complete, then finalizes.
+template <typename MakePair>
+RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size_t count, const std::string& kind,
+                         const std::string& label, MakePair make_pair) {
+  RenderJobResult result;
+  result.msaa_method = session.plan.method;
+  result.device = session.context->info().name;
+  const std::vector<size_t> selected = options.selection.Select(count);
+  result.selected = selected.size();
+  const std::string dir = kind == "calib" ? kCalibDir : kFramesDir;
+  EnsureWritableDirectory(options.output / dir);
+  Progress progress(label, selected.size());
+  for (size_t index : selected) {
+    if (SidecarVerified(options.output, SidecarPath(options.output, kind, index))) {
+      ++result.skipped;
+    } else {
+      auto [items, sidecar] = make_pair(index);
+      WritePair(session, items, options.output, dir, std::move(sidecar), kind == "frame" && options.depth,
+                result.times);
+      ++result.rendered;
+    }
+    if (options.progress) progress.Advance();
+  }
+  if (options.progress) progress.Finish();
+  result.complete = FinalizeManifest(options.output);
+  return result;
+}
+
+nlohmann::json CommonHeader(const Session& session, const std::filesystem::path& dataset, const RenderJobOptions& options) {
+  const std::string rig_hash = CopyInput(dataset, options.rig, kRigName);
+  WriteCalibration(dataset / kIdealCalibrationName, IdealCalibration(session.rig));
+  return {{"schema", kDatasetSchema},
+          {"renderer", RendererIdentity()},
+          {"device", DeviceJson(session.context->info())},
+          {"image",
+           {{"width", session.rig.left.intrinsics.width_px},
+            {"height", session.rig.left.intrinsics.height_px},
+            {"encoding", "PNG, 8-bit sRGB, RGB"}}},
+          {"inputs", {{"rig", {{"file", kRigName}, {"sha256", rig_hash}}}}}};
+}
+
+}  // namespace
+
+RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
+  if (!IsSupportedMsaaLevel(options.msaa)) PlanMsaa(options.msaa, {1});  // throws the usual message
+  const StereoRig rig = LoadRig(options.rig);
+  const std::vector<FlightSample> path = ReadFlightPath(options.flight_path);
+  const SceneModel receiver = LoadSceneModel(options.receiver_model);
+  const SceneModel tanker = LoadSceneModel(options.tanker_model);
+  CheckOutputFolder(options.output);
+  Session session = OpenSession(options, rig);
+  const int receiver_index = session.renderer->AddModel(receiver);
+  const int tanker_index = session.renderer->AddModel(tanker);
+  const std::vector<Eigen::Vector3d> receiver_points = receiver.AllPositions();
+
+  EnsureWritableDirectory(options.output);
+  nlohmann::json header = CommonHeader(session, options.output, options);
+  header["inputs"]["receiver_model"] = {{"file", kReceiverModelName},
+                                        {"sha256", CopyInput(options.output, options.receiver_model, kReceiverModelName)}};
+  header["inputs"]["tanker_model"] = {{"source", options.tanker_model.filename().string()},
+                                      {"sha256", Sha256File(options.tanker_model)}};
+  header["inputs"]["flight_path"] = {{"file", kFlightPathName},
+                                     {"sha256", CopyInput(options.output, options.flight_path, kFlightPathName)}};
+  header["frames"] = {{"count", path.size()}, {"msaa", MsaaJson(session.plan)}, {"depth", options.depth}};
+  OpenManifest(options.output, header);
+
+  return RunPairs(options, session, path.size(), "frame", "render x" + std::to_string(options.msaa), [&](size_t i) {
+    const Eigen::Isometry3d tanker_from_receiver = IsometryFromPose(path[i].tanker_from_receiver);
+    std::vector<RenderItem> items = {{tanker_index, Eigen::Isometry3d::Identity(), kTankerId},
+                                     {receiver_index, tanker_from_receiver, kReceiverId}};
+    FrameSidecar s;
+    s.kind = "frame";
+    s.index = i;
+    s.time_s = path[i].time_s;
+    s.tanker_from_target = path[i].tanker_from_receiver;
+    s.range_m = (tanker_from_receiver.translation() - rig.left.tanker_from_camera.translation()).norm();
+    s.region = RegionForRange(s.range_m);
+    s.in_view_left = InViewFraction(receiver_points, rig.left, tanker_from_receiver);
+    s.in_view_right = InViewFraction(receiver_points, rig.right, tanker_from_receiver);
+    s.rig = rig;
+    return std::make_pair(items, s);
+  });
+}
+
+RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
+  if (!IsSupportedMsaaLevel(options.msaa)) PlanMsaa(options.msaa, {1});
+  const StereoRig rig = LoadRig(options.rig);
+  const SceneModel board = LoadSceneModel(options.board_model);
+  const std::vector<Pose> poses = CalibrationBoardPoses(rig);
+  CheckOutputFolder(options.output);
+  Session session = OpenSession(options, rig);
+  const int board_index = session.renderer->AddModel(board);
+  const std::vector<Eigen::Vector3d> board_points = board.AllPositions();
+  const BoardSpec spec;
+
+  EnsureWritableDirectory(options.output);
+  nlohmann::json header = CommonHeader(session, options.output, options);
+  header["inputs"]["board_model"] = {{"source", options.board_model.filename().string()},
+                                     {"sha256", Sha256File(options.board_model)}};
+  header["calib"] = {{"count", poses.size()},
+                     {"msaa", MsaaJson(session.plan)},
+                     {"board", {{"inner_corners", {spec.inner_corners_x, spec.inner_corners_y}},
+                                {"square_m", spec.square_m}}}};
+  OpenManifest(options.output, header);
+
+  return RunPairs(options, session, poses.size(), "calib", "calib x" + std::to_string(options.msaa), [&](size_t i) {
+    const Eigen::Isometry3d tanker_from_board = IsometryFromPose(poses[i]);
+    std::vector<RenderItem> items = {{board_index, tanker_from_board, kBoardId}};
+    FrameSidecar s;
+    s.kind = "calib";
+    s.index = i;
+    s.tanker_from_target = poses[i];
+    s.range_m = (tanker_from_board.translation() - rig.left.tanker_from_camera.translation()).norm();
+    s.in_view_left = InViewFraction(board_points, rig.left, tanker_from_board);
+    s.in_view_right = InViewFraction(board_points, rig.right, tanker_from_board);
+    s.rig = rig;
+    s.board = spec;
+    return std::make_pair(items, s);
+  });
+}
+
+}  // namespace aar

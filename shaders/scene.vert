@@ -1,0 +1,30 @@
+#version 450
+// Transforms body-frame vertices of one object to clip space. The projection
+// maps the OpenCV camera frame (x right, y down, z forward) to Vulkan clip
+// space with reversed infinite depth, so gl_Position.w is the depth along the
+// optical axis in metres.
+
+layout(location = 0) in vec3 in_position;  // object (body) frame [m]
+layout(location = 1) in vec3 in_normal;    // object (body) frame
+layout(location = 2) in vec2 in_uv;
+
+layout(push_constant) uniform PushConstants {
+  mat4 clip_from_object;
+  vec4 tanker_from_object_rows[3];  // rotation rows (xyz) of tanker_from_object
+  vec4 base_color_factor;           // linear RGBA
+} pc;
+
+layout(location = 0) out vec3 out_normal_in_tanker;
+layout(location = 1) out vec2 out_uv;
+layout(location = 2) out float out_depth_m;
+
+void main() {
+  gl_Position = pc.clip_from_object * vec4(in_position, 1.0);
+  mat3 tanker_from_object_t = mat3(pc.tanker_from_object_rows[0].xyz,
+                                   pc.tanker_from_object_rows[1].xyz,
+                                   pc.tanker_from_object_rows[2].xyz);
+  // mat3(rows) builds the transpose; multiply on the left to apply the rows.
+  out_normal_in_tanker = in_normal * tanker_from_object_t;
+  out_uv = in_uv;
+  out_depth_m = gl_Position.w;
+}
