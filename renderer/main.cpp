@@ -7,9 +7,12 @@
 #include <iostream>
 #include <sstream>
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 
 #include "aar/error.h"
+#include "aar/flight_path.h"
 #include "aar/renderer/dataset_writer.h"
 #include "aar/renderer/stereo_render_job.h"
 #include "aar/renderer/vulkan_context.h"
@@ -57,6 +60,30 @@ void Report(const aar::RenderJobResult& r, const std::filesystem::path& out) {
                                             "shards, then `aar-render finalize`)");
 }
 
+// Renders the last `pairs` samples once per level into a scratch folder and
+// prints a Markdown table of per-pair stage times.
+void RunBench(aar::RenderJobOptions job, const std::vector<int>& levels, size_t pairs) {
+  const size_t count = aar::ReadFlightPath(job.flight_path).size();
+  job.selection.begin = count > pairs ? count - pairs : 0;
+  job.progress = false;
+  const std::filesystem::path root = job.output;
+  std::printf("| MSAA | method | pairs | render ms | readback ms | encode ms | write ms | pairs/s |\n");
+  std::printf("|---|---|---|---|---|---|---|---|\n");
+  for (int level : levels) {
+    job.msaa = level;
+    job.output = root / ("x" + std::to_string(level));
+    std::filesystem::remove_all(job.output);
+    const aar::RenderJobResult r = aar::RenderFlightPathJob(job);
+    const double n = static_cast<double>(r.rendered);
+    const double total = r.times.render_ms + r.times.readback_ms + r.times.encode_ms + r.times.write_ms;
+    std::printf("| x%d | %s | %zu | %.1f | %.1f | %.1f | %.1f | %.2f |\n", level, r.msaa_method.c_str(), r.rendered,
+                r.times.render_ms / n, r.times.readback_ms / n, r.times.encode_ms / n, r.times.write_ms / n,
+                1000.0 * n / total);
+    std::fflush(stdout);
+  }
+  std::filesystem::remove_all(root);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -81,6 +108,17 @@ int main(int argc, char** argv) {
 
   CLI::App* devices = app.add_subcommand("devices", "list the Vulkan devices and their native MSAA counts");
 
+  CommonFlags bench_flags;
+  std::vector<int> bench_levels = {1, 4, 16};
+  size_t bench_pairs = 8;
+  CLI::App* bench = app.add_subcommand(
+      "bench", "time stereo pairs per second per MSAA level (render, readback, encode, write), last pairs of the path");
+  bench->add_option("--levels", bench_levels, "MSAA levels to time")->delimiter(',')->capture_default_str();
+  bench->add_option("--pairs", bench_pairs, "pairs per level (the last ones of the flight path: receiver largest)")
+      ->capture_default_str();
+  AddCommonFlags(bench, bench_flags, false);
+  bench_flags.job.output = std::filesystem::temp_directory_path() / ("aar-render-bench-" + std::to_string(::getpid()));
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (render->parsed() || calib->parsed()) {
@@ -93,6 +131,8 @@ int main(int argc, char** argv) {
       const bool complete = aar::FinalizeManifest(finalize_dir);
       std::fprintf(stderr, "%s: manifest %s\n", finalize_dir.c_str(), complete ? "complete" : "incomplete (frames missing)");
       return complete ? 0 : 3;
+    } else if (bench->parsed()) {
+      RunBench(bench_flags.job, bench_levels, bench_pairs);
     } else if (devices->parsed()) {
       for (const aar::DeviceInfo& d : aar::VulkanContext::ListDevices()) {
         std::ostringstream counts;

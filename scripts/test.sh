@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# One command for a fresh Debian 12 machine: install dependencies, build, run
+# the whole test suite (CTest + GoogleTest, rendering on lavapipe).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+bash scripts/build.sh -DAAR_WARNINGS_AS_ERRORS=ON
+ctest --test-dir build --output-on-failure --parallel "$(nproc)" --timeout 900

@@ -1,0 +1,91 @@
+// Bad input to aar-render: one clear message naming the file (and line), a
+// non-zero exit, and nothing written.
+
+#include <gtest/gtest.h>
+
+#include "../test_support.h"
+#include "aar/file_io.h"
+
+namespace aar {
+namespace {
+
+using test::RunCommand;
+using test::SourcePath;
+using test::TempDir;
+
+struct BadInputCase {
+  std::string name;
+  std::string csv;            ///< flight-path content ("" = the committed conops.csv)
+  std::string extra_flags;    ///< appended to the command line
+  std::string env;            ///< prefix, e.g. VK_ICD_FILENAMES=...
+  std::string expected_text;  ///< must appear in the message
+};
+
+class RenderBadInput : public ::testing::TestWithParam<BadInputCase> {};
+
+TEST_P(RenderBadInput, FailsWithOneClearMessageAndWritesNothing) {
+  const BadInputCase& c = GetParam();
+  TempDir dir("bad-" + c.name);
+  std::string csv_path = SourcePath("flightpaths/conops.csv").string();
+  if (!c.csv.empty()) {
+    csv_path = (dir / "path.csv").string();
+    WriteFileAtomic(csv_path, c.csv);
+  }
+  WriteFileAtomic(dir / "corrupt.glb", "glTF this is not a binary glTF file");
+  WriteFileAtomic(dir / "a-file", "x");
+  std::string flags = c.extra_flags;
+  for (const auto& [key, value] : {std::pair<std::string, std::string>{"@DIR@", dir.path().string()}}) {
+    for (size_t at = flags.find(key); at != std::string::npos; at = flags.find(key)) flags.replace(at, key.size(), value);
+  }
+  const std::filesystem::path out = dir / "out";
+  const std::string command = c.env + " " + test::BinaryPath("renderer/aar-render").string() + " render " +
+                              out.string() + " --no-progress --frames 0:1 --msaa 1" + " --rig " +
+                              SourcePath("scenes/rig.json").string() + " --receiver " +
+                              SourcePath("scenes/c12.glb").string() + " --tanker " +
+                              SourcePath("scenes/kc46.glb").string() + " --flight-path " + csv_path + " " + flags;
+  const test::CommandResult result = RunCommand(command);
+  EXPECT_NE(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find(c.expected_text), std::string::npos) << result.output;
+  EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+  EXPECT_FALSE(std::filesystem::exists(out)) << "output was written";
+}
+
+const std::string kHeader = "time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg\n";
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, RenderBadInput,
+    ::testing::Values(
+        BadInputCase{"missing-gltf", "", "--receiver @DIR@/missing.glb", "", "missing.glb: model file not found"},
+        BadInputCase{"corrupt-gltf", "", "--receiver @DIR@/corrupt.glb", "", "corrupt.glb: not a valid glTF"},
+        BadInputCase{"wrong-header", "t,x,y,z,r,p,yaw\n0,1,2,3,0,0,0\n", "", "", "path.csv:1: wrong header"},
+        BadInputCase{"nan", kHeader + "0,-47,0,-19,0,0,0\n0.5,nan,0,-19,0,0,0\n", "", "",
+                     "path.csv:3: field x_m: 'nan' is not a finite number"},
+        BadInputCase{"text", kHeader + "0,-47,0,-19,zero,0,0\n", "", "",
+                     "path.csv:2: field roll_deg: 'zero' is not a finite number"},
+        BadInputCase{"columns", kHeader + "0,-47,0,-19,0,0\n", "", "", "path.csv:2: expected 7 fields, found 6"},
+        BadInputCase{"msaa", "", "--msaa 6", "", "unknown MSAA level"},
+        BadInputCase{"no-vulkan", "", "", "VK_ICD_FILENAMES=/nonexistent/icd.json", "no Vulkan device"}),
+    [](const ::testing::TestParamInfo<BadInputCase>& info) {
+      std::string name = info.param.name;
+      std::replace(name.begin(), name.end(), '-', '_');
+      return name;
+    });
+
+// An output folder below a regular file cannot be created.
+TEST(RenderBadOutput, UnwritableOutputFolderFailsCleanly) {
+  TempDir dir("bad-output");
+  WriteFileAtomic(dir / "a-file", "x");
+  const std::string command = test::BinaryPath("renderer/aar-render").string() + " render " +
+                              (dir / "a-file/out").string() + " --no-progress --frames 0:1 --msaa 1 --rig " +
+                              SourcePath("scenes/rig.json").string() + " --receiver " +
+                              SourcePath("scenes/c12.glb").string() + " --tanker " +
+                              SourcePath("scenes/kc46.glb").string() + " --flight-path " +
+                              SourcePath("flightpaths/conops.csv").string();
+  const test::CommandResult result = RunCommand(command);
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.output.find("a-file/out: cannot create output folder"), std::string::npos) << result.output;
+  EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+}
+
+}  // namespace
+}  // namespace aar

@@ -1,0 +1,65 @@
+#include <gtest/gtest.h>
+
+#include "aar/renderer/calib_poses.h"
+#include "aar/renderer/projection.h"
+
+namespace aar {
+namespace {
+
+// Framebuffer x of a camera-frame point under ClipFromCamera.
+Eigen::Vector2d Framebuffer(const Eigen::Matrix4d& clip_from_cam, const Eigen::Vector3d& p, const Intrinsics& k) {
+  const Eigen::Vector4d clip = clip_from_cam * p.homogeneous();
+  return {(clip.x() / clip.w() + 1.0) * k.width_px / 2.0, (clip.y() / clip.w() + 1.0) * k.height_px / 2.0};
+}
+
+TEST(Projection, MatchesOpenCvPinholeWithHalfPixelOffset) {
+  Intrinsics k;
+  const Eigen::Vector3d p(1.3, -0.7, 25.0);
+  const Eigen::Vector2d uv = *k.Project(p);
+  const Eigen::Vector2d fb = Framebuffer(ClipFromCamera(k, 0.5), p, k);
+  EXPECT_NEAR(fb.x(), uv.x() + 0.5, 1e-9);
+  EXPECT_NEAR(fb.y(), uv.y() + 0.5, 1e-9);
+}
+
+TEST(Projection, JitterMovesTheImageOpposite) {
+  Intrinsics k;
+  const Eigen::Vector3d p(0.2, 0.1, 40.0);
+  const Eigen::Vector2d a = Framebuffer(ClipFromCamera(k, 0.5), p, k);
+  const Eigen::Vector2d b = Framebuffer(ClipFromCamera(k, 0.5, 0.25, -0.125), p, k);
+  EXPECT_NEAR(b.x() - a.x(), -0.25, 1e-9);
+  EXPECT_NEAR(b.y() - a.y(), 0.125, 1e-9);
+}
+
+TEST(Projection, ReversedDepthIsNearOverZ) {
+  Intrinsics k;
+  const Eigen::Vector4d clip = ClipFromCamera(k, 0.5) * Eigen::Vector4d(0, 0, 10.0, 1.0);
+  EXPECT_NEAR(clip.z() / clip.w(), 0.05, 1e-12);
+  EXPECT_NEAR(clip.w(), 10.0, 1e-12);
+}
+
+TEST(Projection, InViewFractionCountsPointsInsideTheImage) {
+  Camera cam;  // identity pose: camera frame = tanker frame
+  const std::vector<Eigen::Vector3d> points = {{0, 0, 10}, {0, 0, -10}, {100, 0, 10}, {0.5, 0.5, 5}};
+  EXPECT_DOUBLE_EQ(InViewFraction(points, cam, Eigen::Isometry3d::Identity()), 0.5);
+}
+
+TEST(CalibPoses, TwelveBoardPosesFitBothViews) {
+  StereoRig rig;
+  rig.left.tanker_from_camera.translation() = Eigen::Vector3d(0, 0, 0);
+  rig.right.tanker_from_camera.translation() = Eigen::Vector3d(0.5, 0, 0);
+  const CalibPoseOptions options;
+  const std::vector<Pose> poses = CalibrationBoardPoses(rig, options);
+  ASSERT_EQ(poses.size(), 12u);
+  for (const Pose& pose : poses) {
+    for (const Eigen::Vector3d& corner : BoardOutline(options)) {
+      for (const Camera* cam : {&rig.left, &rig.right}) {
+        const auto px = cam->intrinsics.Project(cam->tanker_from_camera.inverse() * (IsometryFromPose(pose) * corner));
+        ASSERT_TRUE(px.has_value());
+        EXPECT_TRUE(cam->intrinsics.Contains(*px));
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace aar

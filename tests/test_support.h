@@ -1,0 +1,57 @@
+#pragma once
+// Helpers shared by the test executables: temporary folders, running the
+// command-line tools, reading files.
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include <unistd.h>
+
+namespace aar::test {
+
+/// A fresh empty folder under the build tree, removed at destruction.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& name) {
+    path_ = std::filesystem::path(AAR_BINARY_DIR) / "test-tmp" / (name + "-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() { std::filesystem::remove_all(path_); }
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& child) const { return path_ / child; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;  ///< stdout and stderr together
+};
+
+/// Runs a shell command line, capturing its output and exit code.
+inline CommandResult RunCommand(const std::string& command) {
+  CommandResult result;
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  if (pipe == nullptr) return result;
+  std::array<char, 4096> buffer{};
+  size_t n = 0;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  const int status = ::pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+inline std::filesystem::path SourcePath(const std::string& relative) {
+  return std::filesystem::path(AAR_SOURCE_DIR) / relative;
+}
+
+inline std::filesystem::path BinaryPath(const std::string& relative) {
+  return std::filesystem::path(AAR_BINARY_DIR) / relative;
+}
+
+}  // namespace aar::test
