@@ -38,6 +38,8 @@ void AddCommonFlags(CLI::App* cmd, CommonFlags& f, bool calib) {
   }
   cmd->add_option("--msaa", f.job.msaa, "samples per pixel: 1, 4, 8, 16 or 32 (composed when not native)")
       ->capture_default_str();
+  cmd->add_option("--anisotropy", f.job.anisotropy, "texture anisotropic filtering, 1 (trilinear) to 16")
+      ->capture_default_str();
   cmd->add_option("--frames", f.frames, "half-open range a:b of frame indices (e.g. 0:100, 250:)");
   cmd->add_option("--shard", f.shard,
                   "render frames i with i % N == K (K/N); defaults to SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT");
@@ -91,6 +93,7 @@ int main(int argc, char** argv) {
       "aar-render: renders the tanker's stereo cameras looking at a receiver aircraft, headless with Vulkan, "
       "into a self-describing dataset folder (docs/dataset-format.md)."};
   app.require_subcommand(1);
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);  // a repeated flag: the last wins
 
   CommonFlags render_flags;
   CLI::App* render = app.add_subcommand("render", "render a flight path: one stereo pair and truth sidecar per sample");

@@ -27,7 +27,7 @@ std::vector<Pose> CalibrationBoardPoses(const StereoRig& rig, const CalibPoseOpt
     double shift_x_m, shift_y_m;                   // board-centre offset across the optical axis
   };
   static const Tilt kTilts[] = {
-      {0, 0, 0, 0, 0},        {25, 0, 0, 0, 0.5},      {-25, 0, 0, 0, -0.5},   {0, 25, 0, 0.5, 0},
+      {0, 0, 4, 0.13, 0.07},  {25, 0, 0, 0, 0.5},      {-25, 0, 0, 0, -0.5},   {0, 25, 0, 0.5, 0},
       {0, -25, 0, -0.5, 0},   {20, 20, 5, 0.5, 0.5},   {-20, 20, -5, 0.5, -0.5}, {20, -20, -5, -0.5, 0.5},
       {-20, -20, 5, -0.5, -0.5}, {10, -10, 15, 0, 0},  {-10, 10, -15, 0, 0},   {30, 15, 0, 0.3, 0.3},
   };

@@ -77,6 +77,7 @@ struct SceneRenderer::GpuModel {
   GpuBuffer vertices;
   GpuBuffer indices;
   std::vector<Draw> draws;
+  Eigen::AlignedBox3d bounds;  // object frame, for the render-area rectangle
 };
 
 struct SceneRenderer::Target {
@@ -89,6 +90,7 @@ struct SceneRenderer::Target {
   VkRenderPass render_pass = VK_NULL_HANDLE;
   VkFramebuffer framebuffer = VK_NULL_HANDLE;
   VkPipeline pipeline = VK_NULL_HANDLE;
+  std::array<float, 3> background{};  // a resolved sky pixel as this target produces it
   const GpuImage& Output() const { return samples > 1 ? resolve : color; }
   ~Target() {
     if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
@@ -227,6 +229,9 @@ int SceneRenderer::AddModel(const SceneModel& model) {
     for (const Primitive& p : model.primitives) {
       std::memcpy(static_cast<Vertex*>(gpu->vertices.mapped()) + v, p.vertices.data(), p.vertices.size() * sizeof(Vertex));
       std::memcpy(static_cast<uint32_t*>(gpu->indices.mapped()) + i, p.indices.data(), p.indices.size() * sizeof(uint32_t));
+      for (const Vertex& vertex : p.vertices) {
+        gpu->bounds.extend(Eigen::Vector3d(vertex.position[0], vertex.position[1], vertex.position[2]));
+      }
       GpuModel::Draw draw;
       draw.first_index = static_cast<uint32_t>(i);
       draw.index_count = static_cast<uint32_t>(p.indices.size());
@@ -373,11 +378,20 @@ SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) 
   VkCheck(vkCreateGraphicsPipelines(t->device, VK_NULL_HANDLE, 1, &pipeline, nullptr, &t->pipeline),
           "vkCreateGraphicsPipelines");
   slot = std::move(t);
+  if (!ground_truth) {
+    // Sky pixels outside the render area are filled with this value, read
+    // back from a 1x1 render of nothing, so they equal rendered sky exactly.
+    const PixelRect corner{0, 0, 1, 1};
+    context_.SubmitAndWait([&](VkCommandBuffer cmd) { Record(cmd, *slot, Eigen::Matrix4d::Identity(), {}, false, corner); });
+    ReadBack(*slot, corner);
+    const uint16_t* half = static_cast<const uint16_t*>(readback_.mapped());
+    for (int c = 0; c < 3; ++c) slot->background[c] = HalfToFloat(half[c]);
+  }
   return *slot;
 }
 
 void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Matrix4d& clip_from_tanker,
-                           const std::vector<RenderItem>& items, bool ground_truth) {
+                           const std::vector<RenderItem>& items, bool ground_truth, const PixelRect& area) {
   VkClearValue clears[2]{};
   if (ground_truth) {
     clears[0].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
@@ -388,7 +402,7 @@ void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Mat
   VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
   begin.renderPass = target.render_pass;
   begin.framebuffer = target.framebuffer;
-  begin.renderArea = {{0, 0}, {static_cast<uint32_t>(width_), static_cast<uint32_t>(height_)}};
+  begin.renderArea = {{area.x0, area.y0}, {static_cast<uint32_t>(area.width()), static_cast<uint32_t>(area.height())}};
   begin.clearValueCount = 2;
   begin.pClearValues = clears;
   vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
@@ -421,11 +435,13 @@ void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Mat
   vkCmdEndRenderPass(cmd);
 }
 
-void SceneRenderer::ReadBack(const Target& target) {
+void SceneRenderer::ReadBack(const Target& target, const PixelRect& area) {
   context_.SubmitAndWait([&](VkCommandBuffer cmd) {
     VkBufferImageCopy copy{};
+    copy.bufferRowLength = static_cast<uint32_t>(area.width());
     copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    copy.imageExtent = {static_cast<uint32_t>(width_), static_cast<uint32_t>(height_), 1};
+    copy.imageOffset = {area.x0, area.y0, 0};
+    copy.imageExtent = {static_cast<uint32_t>(area.width()), static_cast<uint32_t>(area.height()), 1};
     vkCmdCopyImageToBuffer(cmd, target.Output().image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer(), 1,
                            &copy);
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
@@ -436,28 +452,49 @@ void SceneRenderer::ReadBack(const Target& target) {
   });
 }
 
+PixelRect SceneRenderer::RenderArea(const Eigen::Matrix4d& clip_from_tanker, const std::vector<RenderItem>& items) const {
+  // Jitter moves the image by less than a pixel; 3 px of margin covers it and the rasterizer's rounding.
+  constexpr int kMarginPx = 3;
+  PixelRect area{width_, height_, 0, 0};
+  for (const RenderItem& item : items) {
+    const GpuModel& model = *models_.at(item.model);
+    const PixelRect r = ProjectedRect(clip_from_tanker * item.tanker_from_object.matrix(), model.bounds, width_,
+                                      height_, kMarginPx);
+    if (r.empty()) continue;
+    area = {std::min(area.x0, r.x0), std::min(area.y0, r.y0), std::max(area.x1, r.x1), std::max(area.y1, r.y1)};
+  }
+  return area.empty() ? PixelRect{0, 0, 1, 1} : area;  // nothing in view: render one sky pixel
+}
+
 LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, const std::vector<RenderItem>& items,
                                        const MsaaPlan& plan, ViewTimings* timings) {
   Target& target = TargetFor(plan.native_samples, false);
   LinearImage out;
   out.width = width_;
   out.height = height_;
-  out.rgb.assign(static_cast<size_t>(width_) * height_ * 3, 0.0f);
+  out.rgb.resize(static_cast<size_t>(width_) * height_ * 3);
+  for (size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = target.background[i % 3];
   const Eigen::Matrix4d cam_from_tanker = camera.tanker_from_camera.inverse().matrix();
+  // Only the rectangle that can hold geometry is rendered; the rest is sky.
+  const PixelRect area = RenderArea(ClipFromCamera(camera.intrinsics, near_m) * cam_from_tanker, items);
+  std::vector<float> sum(static_cast<size_t>(area.width()) * area.height() * 3, 0.0f);
   const float weight = 1.0f / static_cast<float>(plan.passes);
   for (const Vec2& jitter : plan.offsets_px) {
     auto start = std::chrono::steady_clock::now();
     const Eigen::Matrix4d clip_from_tanker = ClipFromCamera(camera.intrinsics, near_m, jitter.x, jitter.y) * cam_from_tanker;
-    context_.SubmitAndWait([&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, items, false); });
+    context_.SubmitAndWait([&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, items, false, area); });
     if (timings) timings->render_ms += MillisecondsSince(start);
     start = std::chrono::steady_clock::now();
-    ReadBack(target);
+    ReadBack(target, area);
     const uint16_t* half = static_cast<const uint16_t*>(readback_.mapped());
-    const size_t pixels = static_cast<size_t>(width_) * height_;
-    for (size_t i = 0; i < pixels; ++i) {
-      for (int c = 0; c < 3; ++c) out.rgb[i * 3 + c] += weight * HalfToFloat(half[i * 4 + c]);
+    for (size_t i = 0; i < sum.size() / 3; ++i) {
+      for (int c = 0; c < 3; ++c) sum[i * 3 + c] += weight * HalfToFloat(half[i * 4 + c]);
     }
     if (timings) timings->readback_ms += MillisecondsSince(start);
+  }
+  for (int y = 0; y < area.height(); ++y) {
+    std::copy_n(&sum[static_cast<size_t>(y) * area.width() * 3], area.width() * 3,
+                &out.rgb[(static_cast<size_t>(y + area.y0) * width_ + area.x0) * 3]);
   }
   return out;
 }
@@ -467,8 +504,9 @@ GroundTruthImage SceneRenderer::RenderGroundTruth(const Camera& camera, double n
   Target& target = TargetFor(1, true);
   const Eigen::Matrix4d clip_from_tanker =
       ClipFromCamera(camera.intrinsics, near_m) * camera.tanker_from_camera.inverse().matrix();
-  context_.SubmitAndWait([&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, items, true); });
-  ReadBack(target);
+  const PixelRect full{0, 0, width_, height_};
+  context_.SubmitAndWait([&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, items, true, full); });
+  ReadBack(target, full);
   GroundTruthImage out;
   out.width = width_;
   out.height = height_;

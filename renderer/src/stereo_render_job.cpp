@@ -78,7 +78,10 @@ Session OpenSession(const RenderJobOptions& options, const StereoRig& rig) {
   vk.device_filter = options.device;
   s.context = std::make_unique<VulkanContext>(vk);
   s.plan = PlanMsaa(options.msaa, s.context->info().color_sample_counts);
-  s.renderer = std::make_unique<SceneRenderer>(*s.context, rig.left.intrinsics.width_px, rig.left.intrinsics.height_px);
+  SceneRendererOptions render_options;
+  render_options.max_anisotropy = options.anisotropy;
+  s.renderer = std::make_unique<SceneRenderer>(*s.context, rig.left.intrinsics.width_px, rig.left.intrinsics.height_px,
+                                               render_options);
   return s;
 }
 
@@ -178,7 +181,10 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
                                       {"sha256", Sha256File(options.tanker_model)}};
   header["inputs"]["flight_path"] = {{"file", kFlightPathName},
                                      {"sha256", CopyInput(options.output, options.flight_path, kFlightPathName)}};
-  header["frames"] = {{"count", path.size()}, {"msaa", MsaaJson(session.plan)}, {"depth", options.depth}};
+  header["frames"] = {{"count", path.size()},
+                      {"msaa", MsaaJson(session.plan)},
+                      {"depth", options.depth},
+                      {"texture_anisotropy", options.anisotropy}};
   OpenManifest(options.output, header);
 
   return RunPairs(options, session, path.size(), "frame", "render x" + std::to_string(options.msaa), [&](size_t i) {
@@ -216,6 +222,7 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
                                      {"sha256", Sha256File(options.board_model)}};
   header["calib"] = {{"count", poses.size()},
                      {"msaa", MsaaJson(session.plan)},
+                     {"texture_anisotropy", options.anisotropy},
                      {"board", {{"inner_corners", {spec.inner_corners_x, spec.inner_corners_y}},
                                 {"square_m", spec.square_m}}}};
   OpenManifest(options.output, header);

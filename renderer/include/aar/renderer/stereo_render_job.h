@@ -20,6 +20,7 @@ struct RenderJobOptions {
   std::filesystem::path board_model = "scenes/calib_board.glb";     ///< calibration board glTF (calib job)
   std::filesystem::path flight_path = "flightpaths/conops.csv";     ///< flight path (render job)
   int msaa = 16;                                                    ///< 1, 4, 8, 16 or 32 samples per pixel
+  float anisotropy = 1.0f;                                          ///< texture anisotropic filtering (1 = trilinear)
   bool depth = false;                                               ///< also write left-camera depth EXR (render job)
   FrameSelection selection;                                         ///< frames (or calib pairs) to render
   std::string device;                                               ///< Vulkan device name filter ("" = lavapipe first)

@@ -1,0 +1,399 @@
+#include "c12_livery.h"
+
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace aar::scenes {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// Paint colours (display RGB).
+const Color kWhite{0.86, 0.86, 0.84};
+const Color kBellyGrey{0.50, 0.52, 0.54};
+const Color kUnderGrey{0.62, 0.63, 0.64};   // under wing and tailplane
+const Color kCheatBlue{0.10, 0.17, 0.40};
+const Color kPinstripeRed{0.66, 0.13, 0.10};
+const Color kRadome{0.34, 0.35, 0.36};
+const Color kAntiGlare{0.15, 0.16, 0.14};
+const Color kGlass{0.06, 0.08, 0.11};
+const Color kFrame{0.30, 0.31, 0.32};
+const Color kBoot{0.07, 0.07, 0.07};        // pneumatic de-ice boots
+const Color kWalkway{0.23, 0.23, 0.22};
+const Color kInk{0.07, 0.07, 0.08};         // markings
+const Color kSpinner{0.56, 0.57, 0.59};
+const Color kIntake{0.05, 0.05, 0.05};
+const Color kExhaust{0.12, 0.11, 0.10};
+const Color kNavRed{0.75, 0.08, 0.06};
+const Color kNavGreen{0.08, 0.60, 0.20};
+
+// Multiplicative shades.
+constexpr double kPanelLine = 0.55;
+constexpr double kRivet = 0.80;
+constexpr double kLineHalfWidth = 0.006;  // m
+constexpr double kRivetRadius = 0.0045;   // m
+constexpr double kRivetPitch = 0.045;     // m
+
+// Weathering: wavelengths (m) and amplitudes of the luminance octaves.
+constexpr std::array<double, 6> kOctaveWavelength = {0.035, 0.07, 0.14, 0.28, 0.56, 1.12};
+constexpr std::array<double, 6> kOctaveAmplitude = {0.045, 0.05, 0.055, 0.06, 0.07, 0.08};
+
+// Fuselage layout (stations in m aft of the nose tip).
+constexpr std::array<double, 12> kFuselageJoints = {0.28, 1.25, 2.45, 3.95, 5.25, 6.55,
+                                                    7.85, 9.15, 10.35, 11.45, 12.45, 13.16};
+constexpr double kLapJointPitch = kPi / 6.0;  // longitudinal skin joints every 30 deg
+constexpr double kFrameSpacing = 0.26;
+constexpr double kCabinWindowFirst = 4.45, kCabinWindowPitch = 0.62;
+constexpr int kCabinWindows = 7;
+
+bool near(double d, double half_width = kLineHalfWidth) { return std::abs(d) < half_width; }
+
+/// Rivet dot on a row: `along` measured along the row, `across` from the row's centre line.
+bool rivet(double along, double across, double pitch = kRivetPitch) {
+  return std::abs(across) < kRivetRadius && distance_to_grid(along, pitch) < kRivetRadius;
+}
+
+/// Outline of a rounded rectangle centred at (0, 0): true on a band of `width` inside its edge.
+bool outline(double x, double y, double hx, double hy, double r, double width = 2 * kLineHalfWidth) {
+  return in_rounded_rect(x, y, hx, hy, r) &&
+         !in_rounded_rect(x, y, hx - width, hy - width, std::max(r - width, 0.0));
+}
+
+}  // namespace
+
+C12Livery::C12Livery(const C12Airframe& airframe, std::uint64_t seed)
+    : airframe_(airframe),
+      seed_(seed),
+      octaves_{ValueNoise(seed + 1), ValueNoise(seed + 2), ValueNoise(seed + 3),
+               ValueNoise(seed + 4), ValueNoise(seed + 5), ValueNoise(seed + 6)},
+      streaks_(seed + 7),
+      grime_(seed + 8),
+      soot_(seed + 9) {
+  // A different fixed orientation per octave keeps the lattices from lining up.
+  for (int k = 0; k < kOctaves; ++k) {
+    octave_rotations_[static_cast<std::size_t>(k)] =
+        (Eigen::AngleAxisd(0.7 + 1.3 * k, Vec3::UnitZ()) * Eigen::AngleAxisd(0.4 + 0.9 * k, Vec3::UnitX()))
+            .toRotationMatrix();
+  }
+}
+
+Color C12Livery::weather(const Color& paint, const Vec3& p, double strength) const {
+  double luminance = 1.0;
+  for (std::size_t k = 0; k < octaves_.size(); ++k) {
+    luminance += strength * kOctaveAmplitude[k] *
+                 octaves_[k](octave_rotations_[k] * p / kOctaveWavelength[k]);
+  }
+  // Streaks along the airflow (long in x, narrow across).
+  luminance += strength * 0.05 * streaks_(Vec3(p.x() / 1.5, p.y() / 0.05, p.z() / 0.05));
+  // Grime patches: darker and browner where the coarse field is high.
+  const double g = std::clamp(grime_(p / 0.9) * 1.6 - 0.3, 0.0, 1.0) * strength;
+  const Color dirt{0.42, 0.39, 0.33};
+  Color c = paint * luminance;
+  c = c * (1.0 - 0.22 * g) + dirt * (0.22 * g) * luminance;
+  // A floor of additive variation keeps dark paint (boots, glass) matchable.
+  c += Color::Constant(0.025 * strength * octaves_[2](p / 0.12 + Vec3(17.0, 5.0, 3.0)));
+  return c;
+}
+
+double C12Livery::panel_shade(std::int64_t part, std::int64_t i, std::int64_t j) const {
+  return 1.0 + 0.07 * (hash01(seed_, part, i, j) - 0.5);
+}
+
+double C12Livery::access_panel(std::int64_t part, std::int64_t i, std::int64_t j, double a0, double a1,
+                               double b0, double b1, double a, double b) const {
+  const std::uint64_t h = hash64(seed_ + 100, part, i, j);
+  if (h % 5 < 2) return 1.0;  // 60 % of the cells carry a panel
+  auto u01 = [h](int k) { return static_cast<double>((h >> (8 * k + 8)) & 0xff) / 255.0; };
+  const double hx = std::min(0.08 + 0.12 * u01(0), 0.5 * (a1 - a0) - 0.05);
+  const double hy = std::min(0.06 + 0.10 * u01(1), 0.5 * (b1 - b0) - 0.05);
+  if (hx <= 0.02 || hy <= 0.02) return 1.0;
+  const double ca = a0 + 0.05 + hx + u01(2) * std::max(0.0, (a1 - a0) - 0.1 - 2 * hx);
+  const double cb = b0 + 0.05 + hy + u01(3) * std::max(0.0, (b1 - b0) - 0.1 - 2 * hy);
+  const double x = a - ca, y = b - cb;
+  if (outline(x, y, hx, hy, 0.02)) return kPanelLine;
+  // Fasteners around the edge, 2.5 cm inside.
+  const bool fastener_row = (std::abs(std::abs(x) - (hx - 0.025)) < kRivetRadius && std::abs(y) < hy - 0.02 &&
+                             distance_to_grid(y, 0.06) < kRivetRadius) ||
+                            (std::abs(std::abs(y) - (hy - 0.025)) < kRivetRadius && std::abs(x) < hx - 0.02 &&
+                             distance_to_grid(x, 0.06) < kRivetRadius);
+  if (fastener_row) return kRivet;
+  if (in_rounded_rect(x, y, hx, hy, 0.02)) return 1.0 + 0.06 * (u01(4) - 0.5);  // slightly different paint
+  return 1.0;
+}
+
+Color C12Livery::fuselage(double u, double v) const {
+  const Body& body = airframe_.fuselage;
+  const Vec3 p = body.point(u, v);
+  const double s = body.station(u);
+  const double zeta = body.section_height(v);  // -1 bottom, 0 widest, +1 top
+  const double phi = 2.0 * kPi * v;           // 0 bottom, pi/2 left side, pi top
+  const bool left = p.y() >= 0.0;
+  const BodyTables& t = body.tables();
+  const double radius = 0.5 * (t.half_width(s) + 0.5 * (t.z_top(s) - t.z_bottom(s)));
+  const double around = phi * radius;  // approximate arc length from the bottom centre line
+
+  Color c = zeta < -0.52 ? kBellyGrey : kWhite;
+  if (s > 0.5 && s < 12.9) {
+    if (zeta > -0.42 && zeta < -0.20) c = kCheatBlue;
+    else if (zeta > -0.16 && zeta < -0.12) c = kPinstripeRed;
+  }
+  if (s < kFuselageJoints.front()) c = kRadome;
+  if (s > kFuselageJoints.back()) c = kRadome;  // tail cone cap with the tail light
+  if (s > 1.45 && s < 2.47 && zeta > 0.5) c = kAntiGlare;
+
+  // Markings: "U.S. ARMY" on both sides of the aft fuselage, reading correctly from outside.
+  constexpr double kTextStation = 10.55, kTextZ = 0.26, kTextHeight = 0.24;
+  if (text_ink("U.S. ARMY", left ? s - kTextStation : kTextStation - s, p.z() - kTextZ, kTextHeight)) c = kInk;
+
+  // Skin panels: shade per panel, joints, frames with rivet rows, access panels.
+  const auto bay = static_cast<std::int64_t>(
+      std::upper_bound(kFuselageJoints.begin(), kFuselageJoints.end(), s) - kFuselageJoints.begin());
+  const auto strip = static_cast<std::int64_t>(std::floor((phi - 0.5 * kLapJointPitch) / kLapJointPitch));
+  double shade = panel_shade(1, bay, strip);
+  if (s > kFuselageJoints.front() && s < kFuselageJoints.back()) {
+    for (double joint : kFuselageJoints) {
+      if (near(s - joint)) shade *= kPanelLine;
+    }
+    const double lap = distance_to_grid(phi, kLapJointPitch, 0.5 * kLapJointPitch) * radius;
+    if (near(lap)) shade *= kPanelLine;
+    if (rivet(s, lap - 0.02, 0.05)) shade *= kRivet;
+    if (rivet(around, distance_to_grid(s, kFrameSpacing, 0.3))) shade *= kRivet;
+    const bool panels_here = zeta < -0.1 || s < 2.4 || s > 9.6;
+    if (panels_here && bay > 0 && bay < static_cast<std::int64_t>(kFuselageJoints.size())) {
+      const double b0 = (0.5 * kLapJointPitch + static_cast<double>(strip) * kLapJointPitch) * radius;
+      shade *= access_panel(1, bay, strip, kFuselageJoints[static_cast<std::size_t>(bay - 1)],
+                            kFuselageJoints[static_cast<std::size_t>(bay)], b0, b0 + kLapJointPitch * radius, s,
+                            around);
+    }
+  }
+  // Antennas on the belly and the spine, anti-collision beacons.
+  for (double station : {4.6, 6.9, 8.2}) {
+    if (zeta < -0.97 && std::abs(p.y()) < 0.025 && std::abs(s - station) < 0.12) c = kInk;
+  }
+  for (double station : {4.0, 7.4}) {
+    if (zeta > 0.97 && std::abs(p.y()) < 0.025 && std::abs(s - station) < 0.10) c = kInk;
+  }
+  if (std::hypot(s - 9.6, p.y()) < 0.05 && zeta > 0) c = kNavRed;
+  if (std::hypot(s - 8.4, p.y()) < 0.05 && zeta < 0) c = kNavRed;
+
+  // Doors: airstair door (left, aft), emergency exit (right, over the wing).
+  if (left && outline(s - 9.10, p.z() + 0.05, 0.35, 0.66, 0.08)) shade *= kPanelLine;
+  if (left && in_rounded_rect(s - 9.36, p.z() - 0.02, 0.05, 0.018, 0.01)) c = kInk;
+  if (!left && outline(s - (kCabinWindowFirst + 2 * kCabinWindowPitch), p.z() - 0.28, 0.28, 0.33, 0.06)) {
+    shade *= kPanelLine;
+  }
+
+  // Glazing: windscreen (two panes either side of a centre post), cockpit
+  // side windows, seven cabin windows a side.
+  double glass_weather = 1.0;
+  auto glaze = [&](bool inside, bool frame) {
+    if (frame) {
+      c = kFrame;
+      shade = 1.0;
+    } else if (inside) {
+      c = kGlass + Color::Constant(0.05 * std::clamp(zeta, 0.0, 1.0));  // sky reflection towards the top
+      shade = 1.0;
+      glass_weather = 0.4;
+    }
+  };
+  {
+    const double aft_edge_zeta = 0.32 + 0.35 * (s - 2.48) / 0.58;
+    const bool region = s > 2.48 && s < 3.06 && zeta > aft_edge_zeta;
+    const bool pane = s > 2.51 && s < 3.03 && zeta > aft_edge_zeta + 0.05 && std::abs(p.y()) > 0.045;
+    glaze(pane, region && !pane);
+  }
+  {
+    const double x = s - 3.46, y = p.z() - 0.37;
+    glaze(in_rounded_rect(x, y, 0.30, 0.17, 0.06), outline(x, y, 0.32, 0.19, 0.07, 0.02));
+  }
+  for (int k = 0; k < kCabinWindows; ++k) {
+    const double x = s - (kCabinWindowFirst + k * kCabinWindowPitch), y = p.z() - 0.30;
+    glaze(in_rounded_rect(x, y, 0.15, 0.18, 0.06), outline(x, y, 0.165, 0.195, 0.07, 0.015));
+  }
+  return weather(c * shade, p, glass_weather);
+}
+
+Color C12Livery::wing(double u, double v) const {
+  const LiftingSurface& w = airframe_.wing;
+  const Vec3 p = w.point(u, v);
+  const double eta = w.span_station(u), a = std::abs(eta);
+  const double xc = w.chord_fraction(v);
+  const bool upper = LiftingSurface::upper_side(v);
+  const double chord = w.chord(eta);
+  const double xm = xc * chord;  // metres aft of the leading edge
+  const double semispan = w.spec().semispan;
+  const double nacelle = airframe_.nacelle_y;
+
+  Color c = upper ? kWhite : kUnderGrey;
+  // Ribs every 0.5 m from the wing root fairing, spars at 13 % and 70 % chord.
+  constexpr double kRoot = 0.78, kRibPitch = 0.5;
+  const auto rib_bay = static_cast<std::int64_t>(std::floor((a - kRoot) / kRibPitch));
+  const std::int64_t zone = xc < 0.13 ? 0 : (xc < 0.70 ? 1 : 2);
+  double shade = panel_shade(eta > 0 ? 2 : 3, rib_bay, zone + (upper ? 3 : 0));
+
+  const bool boot_span = (a > kRoot && a < nacelle - 0.47) || (a > nacelle + 0.47 && a < semispan - 0.35);
+  if (boot_span && xc < (upper ? 0.11 : 0.075)) c = kBoot;
+  if (upper && a > 0.80 && a < 1.95 && xc > 0.16 && xc < 0.60) {
+    c = kWalkway;
+    if (outline(a - 1.375, (xc - 0.38) * chord, 0.575, 0.22 * chord, 0.0, 0.02)) c = kInk;
+  }
+  if (a > semispan - 0.06 && xc < 0.3) c = eta > 0 ? kNavRed : kNavGreen;  // port red, starboard green
+
+  if (a > kRoot && a < semispan - 0.1) {
+    const double rib = distance_to_grid(a, kRibPitch, kRoot);
+    if (near(rib)) shade *= kPanelLine;
+    if (rivet(xm, rib - 0.02)) shade *= kRivet;
+    for (double spar : {0.13, 0.70}) {
+      const double d = (xc - spar) * chord;
+      if (near(d)) shade *= kPanelLine;
+      if (rivet(a, d + 0.02)) shade *= kRivet;
+    }
+    if (xc > 0.16 && xc < 0.68 && rivet(a, distance_to_grid(xm, 0.15), 0.06)) shade *= 0.9;  // stringers
+    // Flaps (inboard and outboard of the nacelle) and ailerons behind a hinge line at 74 % chord.
+    constexpr std::array<double, 6> kBreaks = {kRoot, 2.15, 3.05, 5.40, 5.45, 7.95};
+    if (xc > 0.74) {
+      for (double b : kBreaks) {
+        if (near(a - b)) shade *= kPanelLine;
+      }
+      if (eta > 0 && xc > 0.91 && outline(a - 5.95, (xc - 0.96) * chord, 0.35, 0.05 * chord, 0.0)) {
+        shade *= kPanelLine;  // aileron trim tab
+      }
+    }
+    if (near((xc - 0.74) * chord) && a < 7.95) shade *= kPanelLine;
+    if (upper) {
+      for (double centre : {1.45, 4.2}) {
+        const double side_centre = eta > 0 ? centre : -centre;
+        if (text_ink("NO STEP", side_centre - eta, (0.86 - xc) * chord, 0.08)) c = kInk;
+      }
+      if (std::hypot(a - 4.9, (xc - 0.30) * chord) < 0.06) {
+        shade *= std::hypot(a - 4.9, (xc - 0.30) * chord) > 0.045 ? kPanelLine : 0.85;  // fuel filler
+      }
+    } else {
+      // Inspection hatches in every other rib bay, fuel drains near the rear spar.
+      if (rib_bay % 2 == 0) {
+        const double r = std::hypot(a - (kRoot + (static_cast<double>(rib_bay) + 0.5) * kRibPitch),
+                                    (xc - 0.42) * chord);
+        if (std::abs(r - 0.085) < 0.006) shade *= kPanelLine;
+      }
+      if (std::hypot(distance_to_grid(a, 1.0, 0.3), (xc - 0.66) * chord) < 0.012) c = kInk;
+    }
+  }
+  // Exhaust soot over the wing beside the nacelles, streaked along the flow.
+  if (upper) {
+    const double d = std::abs(a - nacelle);
+    if (d > 0.22 && d < 0.75 && xc > 0.2) {
+      const double fade = std::clamp(1.0 - (xc - 0.2) / 0.9, 0.0, 1.0) * std::clamp((0.75 - d) / 0.25, 0.0, 1.0);
+      const double streak = 0.5 + 0.5 * soot_(Vec3(p.x() / 0.8, p.y() / 0.04, 0.0));
+      shade *= 1.0 - 0.45 * fade * streak;
+    }
+  }
+  return weather(c * shade, p);
+}
+
+Color C12Livery::nacelle(const Body& body, double u, double v) const {
+  const Vec3 p = body.point(u, v);
+  const double s = body.station(u);
+  const double zeta = body.section_height(v);
+  const double phi = 2.0 * kPi * v;
+  const double side = std::abs(std::sin(phi));  // 1 on the inboard/outboard sides
+  const bool left_nacelle = body.point(0.0, 0.0).y() > 0;
+  const BodyTables& t = body.tables();
+  const double radius = 0.5 * (t.half_width(s) + 0.5 * (t.z_top(s) - t.z_bottom(s)));
+  const double around = phi * radius;
+
+  Color c = zeta > -0.35 ? kWhite : kBellyGrey;
+  if (s < 0.42) c = s < 0.12 ? kFrame : kSpinner;
+  constexpr std::array<double, 5> kCowlJoints = {0.42, 1.0, 1.75, 2.55, 3.55};
+  const auto bay = static_cast<std::int64_t>(
+      std::upper_bound(kCowlJoints.begin(), kCowlJoints.end(), s) - kCowlJoints.begin());
+  double shade = panel_shade(left_nacelle ? 4 : 5, bay, zeta > 0 ? 1 : 0);
+  if (s > kCowlJoints.front()) {
+    for (double joint : kCowlJoints) {
+      if (near(s - joint)) shade *= kPanelLine;
+    }
+    if (rivet(around, distance_to_grid(s, 0.2, 0.5))) shade *= kRivet;
+    if (near(p.y() - body.point(0.0, 0.0).y()) && zeta < -0.5) shade *= kPanelLine;  // keel seam / gear doors
+  }
+  // Chin intake below the spinner.
+  if (s > 0.50 && s < 0.85 && zeta < -0.62) c = (s < 0.54 || zeta > -0.66) ? kFrame : kIntake;
+  // Cowl latches.
+  for (double z_level : {-0.4, 0.45}) {
+    if (std::abs(s - 1.75) < 0.04 && std::abs(zeta - z_level) < 0.03) c = kInk;
+  }
+  // Exhaust stacks on both sides and their soot trail.
+  if (side > 0.6) {
+    const double stack = std::hypot((s - 1.28) / 0.22, zeta / 0.28);
+    if (stack < 1.0) c = stack < 0.7 ? kInk : kExhaust;
+    if (s > 1.5 && s < 3.8 && std::abs(zeta) < 0.25 + 0.12 * (s - 1.5)) {
+      const double fade = 1.0 - (s - 1.5) / 2.3;
+      const double streak = 0.5 + 0.5 * soot_(Vec3(p.x() / 0.7, 0.0, p.z() / 0.035) + Vec3(0, 0, 9.0));
+      shade *= 1.0 - 0.55 * fade * streak;
+    }
+  }
+  // Main gear doors under the nacelle.
+  if (zeta < -0.5 && outline(s - 3.1, p.y() - body.point(0.0, 0.0).y(), 0.8, 0.30, 0.05)) shade *= kPanelLine;
+  return weather(c * shade, p);
+}
+
+Color C12Livery::fin(double u, double v) const {
+  const LiftingSurface& f = airframe_.fin;
+  const Vec3 p = f.point(u, v);
+  const double xc = f.chord_fraction(v);
+  const double chord = f.chord(f.span_station(u));
+  const double s = airframe_.station_of_x(p.x());
+  const bool left = p.y() >= 0.0;
+  const double top = f.spec().root_leading_edge.z() + f.spec().semispan;
+
+  Color c = kWhite;
+  if (p.z() > top - 0.30) c = kCheatBlue;
+  if (xc < 0.10 && p.z() > 0.75 && p.z() < top - 0.12) c = kBoot;
+  auto reading = [&](double centre) { return left ? s - centre : centre - s; };
+  if (text_ink("U.S. ARMY", reading(12.0), p.z() - 1.95, 0.13)) c = kInk;
+  if (text_ink("84-24375", reading(11.95), p.z() - 1.50, 0.17)) c = kInk;
+
+  constexpr double kRibPitch = 0.35;
+  const double rib = distance_to_grid(p.z(), kRibPitch, 0.8);
+  double shade = panel_shade(6, static_cast<std::int64_t>(std::floor(p.z() / kRibPitch)), xc < 0.66 ? 0 : 1);
+  if (p.z() > 0.7) {
+    if (near(rib)) shade *= kPanelLine;
+    if (rivet(xc * chord, rib - 0.02)) shade *= kRivet;
+    for (double spar : {0.12, 0.66}) {
+      const double d = (xc - spar) * chord;
+      if (near(d)) shade *= kPanelLine;
+      if (rivet(p.z(), d - 0.02)) shade *= kRivet;
+    }
+    if (xc > 0.9 && outline(p.z() - 1.2, (xc - 0.95) * chord, 0.3, 0.05 * chord, 0.0)) shade *= kPanelLine;
+  }
+  return weather(c * shade, p);
+}
+
+Color C12Livery::stabilizer(double u, double v) const {
+  const LiftingSurface& st = airframe_.stabilizer;
+  const Vec3 p = st.point(u, v);
+  const double eta = st.span_station(u), a = std::abs(eta);
+  const double xc = st.chord_fraction(v);
+  const bool upper = LiftingSurface::upper_side(v);
+  const double chord = st.chord(eta);
+  const double semispan = st.spec().semispan;
+
+  Color c = upper ? kWhite : kUnderGrey;
+  if (xc < (upper ? 0.10 : 0.07) && a > 0.22 && a < semispan - 0.08) c = kBoot;
+  constexpr double kRibPitch = 0.35;
+  const double rib = distance_to_grid(a, kRibPitch, 0.22);
+  double shade = panel_shade(7, static_cast<std::int64_t>(std::floor(eta / kRibPitch)), upper ? 1 : 0);
+  if (a > 0.22 && a < semispan - 0.08) {
+    if (near(rib)) shade *= kPanelLine;
+    if (rivet(xc * chord, rib - 0.02)) shade *= kRivet;
+    for (double spar : {0.12, 0.66}) {
+      const double d = (xc - spar) * chord;
+      if (near(d)) shade *= kPanelLine;
+      if (rivet(a, d + 0.02)) shade *= kRivet;
+    }
+    if (xc > 0.9 && outline(a - 0.65, (xc - 0.95) * chord, 0.3, 0.05 * chord, 0.0)) shade *= kPanelLine;
+  }
+  return weather(c * shade, p);
+}
+
+}  // namespace aar::scenes

@@ -1,0 +1,44 @@
+// Scene description handed to the glTF writer, and the writer itself
+// (binary glTF 2.0 through tinygltf; geometry converted from body to glTF axes).
+#pragma once
+
+#include "geometry.h"
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace aar::scenes {
+
+/// glTF metallic-roughness material: metallic 0, roughness 0.8, double sided.
+struct Material {
+  std::string name;
+  std::array<double, 4> base_color{1.0, 1.0, 1.0, 1.0};  ///< baseColorFactor
+  bool textured = false;  ///< uses the scene's texture as baseColorTexture
+};
+
+struct Primitive {
+  Mesh mesh;  ///< body axes
+  int material = 0;
+};
+
+/// A node with an identity transform (geometry is baked into the vertices).
+struct Node {
+  std::string name;
+  std::vector<Primitive> primitives;
+};
+
+struct SceneModel {
+  std::string name;
+  std::vector<Material> materials;
+  std::vector<Node> nodes;
+  std::vector<std::uint8_t> texture_png;  ///< empty: no texture
+};
+
+/// Writes `scene` as a .glb to `path` (through a temporary file renamed into
+/// place). The output depends only on `scene`.
+void write_glb(const SceneModel& scene, const std::filesystem::path& path);
+
+}  // namespace aar::scenes
