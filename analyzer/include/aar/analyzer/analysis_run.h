@@ -1,0 +1,74 @@
+#pragma once
+// `aar-analyze run`, `calibrate`, `reference` and `merge` as library calls:
+// check the inputs that make a run possible (manifest, calibration, receiver
+// model) before writing anything, then analyze the selected frames and write
+// the per-frame CSV and the per-region summary (docs/analysis.md).
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "aar/analyzer/calibration.h"
+#include "aar/analyzer/frame_analysis.h"
+#include "aar/analyzer/reference_model.h"
+#include "aar/frame_selection.h"
+
+namespace aar {
+
+/// Result files of a run folder.
+inline constexpr const char* kFramesCsvName = "frames.csv";
+inline constexpr const char* kSummaryJsonName = "summary.json";
+inline constexpr const char* kSummaryMarkdownName = "summary.md";
+inline constexpr const char* kRunJsonName = "run.json";
+inline constexpr const char* kCalibrationYamlName = "calibration.yaml";
+inline constexpr const char* kCalibrationReportName = "calibration_report.json";
+
+struct ReferenceRequest {
+  std::string model = "shelled";  ///< "full" or "shelled"
+  ReferenceModelOptions options;  ///< sampling and shelling settings
+};
+
+/// Builds the reference cloud from a receiver mesh and a rig; throws on an unknown model name.
+ReferenceModel BuildReferenceModel(const TriangleMesh& mesh, const StereoRig& rig, const ReferenceRequest& request);
+
+struct CalibrateOutput {
+  CalibrationResult result;
+  nlohmann::json report;  ///< calibration_report.json content (deterministic)
+};
+
+/// Calibrates from DATASET/calib and returns the result plus its JSON report.
+CalibrateOutput CalibrateDataset(const std::filesystem::path& dataset, const CalibrationOptions& options);
+
+/// Writes calibration.yaml and calibration_report.json into `out`.
+void WriteCalibrationOutputs(const std::filesystem::path& out, const CalibrateOutput& calibration);
+
+struct AnalysisRunOptions {
+  std::filesystem::path dataset;                        ///< dataset folder (docs/dataset-format.md)
+  std::filesystem::path out;                            ///< output folder (created)
+  std::optional<std::filesystem::path> calibration;     ///< OpenCV YAML; none = calibrate from DATASET/calib
+  std::optional<std::filesystem::path> receiver_model;  ///< none = DATASET/receiver.glb
+  ReferenceRequest reference;
+  CalibrationOptions calibration_options;
+  FrameAnalysisOptions frame;
+  FrameSelection selection;
+  bool progress = true;                                 ///< progress line and per-frame failures on stderr
+  bool write_outputs = true;                            ///< false for `bench`: time only
+};
+
+struct AnalysisRunResult {
+  std::vector<FrameResult> frames;
+  ModelSummary summary;
+  size_t reference_points = 0;
+};
+
+AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options);
+
+/// Combines the frames.csv of shard run folders into `out` with the same
+/// frames.csv, summary.json and summary.md a single run gives. Throws when
+/// the shards differ in model or dataset, or overlap.
+void MergeRuns(const std::vector<std::filesystem::path>& shard_dirs, const std::filesystem::path& out);
+
+}  // namespace aar

@@ -1,0 +1,78 @@
+#pragma once
+// Rectification and disparity maps (thesis 3.4): OpenCV block matching (or
+// semi-global matching) on the rectified left/right images, then OpenCV's
+// speckle filter.
+
+#include <opencv2/core.hpp>
+
+#include "aar/stereo_calibration.h"
+
+namespace aar {
+
+enum class DisparityAlgorithm {
+  kBlockMatching,  ///< cv::StereoBM (the thesis)
+  kSemiGlobal,     ///< cv::StereoSGBM (MODE_SGBM), for comparison
+};
+
+struct DisparityOptions {
+  DisparityAlgorithm algorithm = DisparityAlgorithm::kBlockMatching;
+  int min_disparity = 0;         ///< smallest disparity searched [px]
+  int num_disparities = 48;      ///< disparities searched, multiple of 16 (thesis 3.4: 48) [px]
+  int block_size = 9;            ///< matching window side, odd (thesis 3.4: 9) [px]
+  int pre_filter_cap = 31;       ///< BM: x-Sobel pre-filter clip (OpenCV default); SGBM: derivative clip
+  int texture_threshold = 10;    ///< BM only: minimum summed |x-Sobel| over the window (OpenCV default)
+  int uniqueness_ratio = 15;     ///< best cost must beat the second best (outside +-1 px) by this many percent (OpenCV BM default)
+  /// Speckle filter (thesis 3.4), applied with cv::filterSpeckles after
+  /// matching (the matchers' built-in speckle filtering is switched off: BM
+  /// takes its range in 1/16 px, SGBM in px, so it is done once here with
+  /// explicit units). Connected regions (4-neighbours whose disparities differ
+  /// by at most speckle_range_px) with fewer than speckle_window_size pixels
+  /// are marked invalid. 0 disables the filter.
+  int speckle_window_size = 100;  ///< largest region removed [pixels]
+  double speckle_range_px = 2.0;  ///< neighbour disparity difference within one region [px]
+  int disp12_max_diff = -1;       ///< left-right consistency check tolerance [px]; -1 = off (OpenCV default)
+  int sgbm_p1 = 8 * 9 * 9;        ///< SGBM smoothness penalty for +-1 px changes (8 * block_size^2, OpenCV sample)
+  int sgbm_p2 = 32 * 9 * 9;       ///< SGBM smoothness penalty for larger changes (32 * block_size^2)
+
+  /// False (and the reason in *error when given) when a value is out of range.
+  bool IsValid(std::string* error = nullptr) const;
+  /// Value OpenCV writes for pixels without a disparity, in 1/16 px: (min_disparity - 1) * 16.
+  int InvalidValue16() const { return (min_disparity - 1) * 16; }
+};
+
+/// Rectifies image pairs with one calibration: the undistort-rectify maps of
+/// both cameras are built once (cv::initUndistortRectifyMap with R1/P1 and
+/// R2/P2, CV_16SC2 fixed-point maps) and applied with cv::remap, INTER_LINEAR,
+/// constant black border.
+class Rectifier {
+ public:
+  explicit Rectifier(const StereoCalibration& calibration);
+
+  /// Rectified 8-bit grayscale images (input gray or BGR, converted with
+  /// cv::cvtColor BGR2GRAY first). Sizes must match the calibration's.
+  void Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& rect_left_gray, cv::Mat& rect_right_gray) const;
+
+  cv::Size image_size() const { return image_size_; }
+
+ private:
+  cv::Size image_size_;
+  cv::Mat left_map1_, left_map2_, right_map1_, right_map2_;
+};
+
+/// Converts an 8-bit gray, BGR or BGRA image to gray with cv::cvtColor.
+cv::Mat ToGrayscale(const cv::Mat& image);
+
+struct DisparityMap {
+  cv::Mat disparity16;   ///< CV_16S, disparity * 16 in rect_left pixels; InvalidValue16() where none
+  cv::Mat disparity;     ///< CV_32F view, disparity16 / 16 [px]; min_disparity - 1 where none
+  int invalid_value16 = -16;  ///< the value marking invalid pixels in disparity16
+  size_t valid_count = 0;     ///< pixels with a disparity (after the speckle filter)
+};
+
+/// Disparity of the rectified left image against the rectified right image
+/// (8-bit gray, same size). Deterministic for a given thread count; the main
+/// program runs single-threaded.
+DisparityMap ComputeDisparity(const cv::Mat& rect_left_gray, const cv::Mat& rect_right_gray,
+                              const DisparityOptions& options);
+
+}  // namespace aar

@@ -1,0 +1,139 @@
+#pragma once
+// Point-to-point ICP (thesis section 3.6; Besl and McKay 1992) estimating
+// tanker_from_receiver: the rigid transform that moves the reference model
+// (receiver frame) onto the sensed point cloud (tanker frame). Each iteration
+// pairs points with their nearest neighbour (nanoflann KD-tree) and solves
+// the closed-form least-squares rotation and translation (Kabsch / Umeyama
+// without scale, SVD of the 3x3 cross-covariance).
+//
+// Everything is single-threaded, sums run in a fixed order in double
+// precision, so a result is bitwise repeatable for the same inputs.
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+namespace aar {
+
+/// Direction of the nearest-neighbour pairing.
+enum class IcpCorrespondence {
+  /// Each (transformed) model point is paired with its nearest sensed point;
+  /// KD-tree over the sensed cloud, built once per frame. The thesis's
+  /// direction ("converge the reference point cloud to the sensed point
+  /// cloud"). Model points that the cameras did not see in this frame (tail
+  /// out of view, the far side in the full model) still pull on the estimate.
+  kModelToSensed,
+  /// Each sensed point is paired with its nearest model point; KD-tree over
+  /// the model, built once per model and reused across frames. Every pair is
+  /// then a surface actually sensed, so unseen model parts do not bias the
+  /// pose; stereo outliers pull instead (use max_correspondence_distance_m).
+  kSensedToModel,
+};
+
+/// "model_to_sensed" / "sensed_to_model"; the parser throws aar::Error on other text.
+std::string ToString(IcpCorrespondence correspondence);
+IcpCorrespondence ParseIcpCorrespondence(const std::string& text);
+
+struct IcpOptions {
+  int max_iterations = 30;  ///< transform updates at most (thesis 3.7: 30)
+  /// Converged when |mse_prev - mse| / mse_prev < this (mean squared
+  /// correspondence distance, before the update of an iteration).
+  double relative_mse_tolerance = 1e-6;
+  /// Converged when one update moves less than both of these.
+  double translation_tolerance_m = 1e-5;   ///< [m]
+  double rotation_tolerance_rad = 1e-5;    ///< [rad]
+  /// Pairs farther apart are ignored (outlier rejection). Default: infinity,
+  /// every pair counts, as in the thesis's plain point-to-point ICP.
+  double max_correspondence_distance_m = std::numeric_limits<double>::infinity();  ///< [m]
+  IcpCorrespondence correspondence = IcpCorrespondence::kModelToSensed;
+  int kdtree_leaf_size = 10;  ///< nanoflann leaf size [points]
+  /// Skip the KD-tree when a point's previous nearest neighbour provably still
+  /// is its nearest (see icp.cpp); exact, same pairs as without it (up to ties
+  /// between equidistant points), several times faster in late iterations.
+  bool cache_nearest = true;
+
+  /// Throws aar::Error naming the first invalid field.
+  void Check() const;
+};
+
+struct IcpResult {
+  Eigen::Isometry3d tanker_from_receiver = Eigen::Isometry3d::Identity();
+  bool converged = false;    ///< a tolerance was met before max_iterations
+  int iterations = 0;        ///< transform updates applied
+  size_t num_inliers = 0;    ///< pairs within max_correspondence_distance_m at the returned transform
+  double rmse_m = 0.0;       ///< RMS distance of those pairs at the returned transform [m]
+  double fitness = 0.0;      ///< num_inliers / number of query points (model or sensed, per direction)
+  double initial_rmse_m = 0.0;  ///< same RMS at the initial transform [m]
+};
+
+/// 3-D KD-tree (nanoflann, L2) over a point set it owns. Queries are const
+/// and may run from several threads at once.
+class KdTree3d {
+ public:
+  explicit KdTree3d(std::vector<Eigen::Vector3d> points, int leaf_size = 10);
+  ~KdTree3d();
+  KdTree3d(KdTree3d&&) noexcept;
+  KdTree3d& operator=(KdTree3d&&) noexcept;
+  KdTree3d(const KdTree3d&) = delete;
+  KdTree3d& operator=(const KdTree3d&) = delete;
+
+  const std::vector<Eigen::Vector3d>& points() const;
+  /// Index and squared distance of the nearest point (exact); the tree must not be empty.
+  std::pair<size_t, double> Nearest(const Eigen::Vector3d& query) const;
+  /// The k nearest points (exact), nearest first: fills indices[0..n) and
+  /// squared_distances[0..n) and returns n = min(k, size()). On entry,
+  /// indices[0..num_seeds) may hold distinct point indices near the query
+  /// (e.g. the previous answer of a point that moved a little); they only
+  /// bound the search from the start and make it faster, never change it.
+  size_t NearestK(const Eigen::Vector3d& query, size_t k, uint32_t* indices, double* squared_distances,
+                  size_t num_seeds = 0) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// ICP against one reference model, reusable across frames (and threads).
+/// For kSensedToModel the model's KD-tree is built once, here.
+class IcpRegistration {
+ public:
+  IcpRegistration(std::vector<Eigen::Vector3d> model_points_in_receiver, const IcpOptions& options = {});
+  ~IcpRegistration();
+
+  /// Registers one frame. Throws aar::Error when either cloud is empty.
+  IcpResult Register(const std::vector<Eigen::Vector3d>& sensed_points_in_tanker,
+                     const Eigen::Isometry3d& initial_tanker_from_receiver) const;
+
+  const std::vector<Eigen::Vector3d>& model_points_in_receiver() const { return model_; }
+  const IcpOptions& options() const { return options_; }
+
+ private:
+  std::vector<Eigen::Vector3d> model_;
+  IcpOptions options_;
+  std::unique_ptr<KdTree3d> model_tree_;  // kSensedToModel only
+};
+
+/// One-shot form of IcpRegistration(model, options).Register(sensed, initial).
+IcpResult RegisterIcp(const std::vector<Eigen::Vector3d>& model_points_in_receiver,
+                      const std::vector<Eigen::Vector3d>& sensed_points_in_tanker,
+                      const Eigen::Isometry3d& initial_tanker_from_receiver, const IcpOptions& options = {});
+
+/// The thesis's seed (section 3.7, Experiment 1): zero roll, pitch and yaw,
+/// and the model's centroid placed on the sensed cloud's centroid:
+/// translation = centroid(sensed) - centroid(model). Throws aar::Error when a
+/// cloud is empty.
+Eigen::Isometry3d InitialGuessAtCentroid(const std::vector<Eigen::Vector3d>& sensed_points_in_tanker,
+                                         const std::vector<Eigen::Vector3d>& model_points_in_receiver);
+
+/// The least-squares rigid transform b_from_a minimising sum |b_from_a * a_i - b_i|^2
+/// (Kabsch / Umeyama without scale; reflections excluded). Needs >= 3 pairs
+/// not all collinear for a unique rotation.
+Eigen::Isometry3d RigidTransformFromPairs(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b);
+
+}  // namespace aar

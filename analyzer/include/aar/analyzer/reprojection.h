@@ -1,0 +1,46 @@
+#pragma once
+// Re-projection of a disparity map to a point cloud in the tanker frame
+// (thesis 3.5, equations 1-3).
+
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include "aar/stereo_calibration.h"
+
+namespace aar {
+
+struct ReprojectionOptions {
+  double min_depth_m = 1e-6;   ///< points with depth (z in rect_left) at or below this are dropped (behind the camera) [m]
+  double max_depth_m = 750.0;  ///< points deeper than this are dropped (thesis 3.5: background) [m]
+  size_t keep_one_in = 8;      ///< decimation: keep valid points 0, k, 2k, ... in row-major order (thesis 3.5: 8); 1 keeps all
+};
+
+/// The sensed point cloud of one frame.
+struct SensedCloud {
+  std::vector<Eigen::Vector3d> points_in_tanker;  ///< kept points, row-major pixel order [m]
+  size_t valid_count = 0;  ///< points that passed the disparity and depth filters, before decimation
+  size_t kept_count = 0;   ///< points_in_tanker.size() = ceil(valid_count / keep_one_in)
+};
+
+/// Re-projects a CV_16S fixed-point disparity map (disparity * 16, as
+/// ComputeDisparity returns; `invalid_value16` marks pixels without a
+/// disparity) to the tanker frame:
+///
+///   [X Y Z W]^T = Q [u v d 1]^T, d = disparity16 / 16        (thesis eq. 1)
+///   point_in_rect_left = (X, Y, Z) / W
+///   point_in_left      = R1^T point_in_rect_left              (undo rectification)
+///   point_in_tanker    = tanker_from_left * point_in_left     (thesis eqs. 2-3)
+///
+/// Eq. 1 is evaluated in double per valid pixel (the same product as
+/// cv::reprojectImageTo3D with handleMissingValues = false, without its float
+/// output image). Dropped: invalid pixels (disparity16 <= invalid_value16),
+/// non-finite results, depth z <= min_depth_m or z > max_depth_m (thesis 3.5).
+/// The survivors are decimated one in keep_one_in, in row-major order.
+SensedCloud Reproject(const cv::Mat& disparity16, int invalid_value16, const StereoCalibration& calibration,
+                      const Eigen::Isometry3d& tanker_from_left, const ReprojectionOptions& options);
+
+}  // namespace aar

@@ -1,0 +1,216 @@
+#include "aar/analyzer/analysis_run.h"
+
+#include <cstdio>
+
+#include "aar/analyzer/mesh.h"
+#include "aar/error.h"
+#include "aar/file_io.h"
+#include "aar/progress.h"
+
+namespace aar {
+namespace {
+
+nlohmann::json MatJson(const cv::Mat& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int r = 0; r < m.rows; ++r) {
+    nlohmann::json row = nlohmann::json::array();
+    for (int c = 0; c < m.cols; ++c) row.push_back(m.at<double>(r, c));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
+  const FrameAnalysisOptions& f = o.frame;
+  return {{"disparity",
+           {{"algorithm", f.disparity.algorithm == DisparityAlgorithm::kBlockMatching ? "bm" : "sgbm"},
+            {"num_disparities", f.disparity.num_disparities},
+            {"block_size", f.disparity.block_size},
+            {"speckle_window_size", f.disparity.speckle_window_size},
+            {"speckle_range_px", f.disparity.speckle_range_px}}},
+          {"reprojection",
+           {{"max_depth_m", f.reprojection.max_depth_m}, {"keep_one_in", f.reprojection.keep_one_in}}},
+          {"icp",
+           {{"max_iterations", f.icp.max_iterations},
+            {"correspondence", ToString(f.icp.correspondence)},
+            {"max_correspondence_distance_m",
+             std::isfinite(f.icp.max_correspondence_distance_m) ? nlohmann::json(f.icp.max_correspondence_distance_m)
+                                                                 : nlohmann::json("inf")},
+            {"seed", ToString(f.seed)}}},
+          {"reference",
+           {{"model", o.reference.model},
+            {"num_points", o.reference.options.num_points},
+            {"seed", o.reference.options.seed}}}};
+}
+
+std::string DescribeSelection(const FrameSelection& s) {
+  std::string text = std::to_string(s.begin) + ":" +
+                     (s.end == static_cast<size_t>(-1) ? std::string() : std::to_string(s.end));
+  if (s.shard_count > 1) text += " shard " + std::to_string(s.shard_index) + "/" + std::to_string(s.shard_count);
+  return text;
+}
+
+void WriteSummary(const std::filesystem::path& out, const nlohmann::json& run, const ModelSummary& summary) {
+  Summary all;
+  all.models.push_back(summary);
+  nlohmann::json json = SummaryToJson(all);
+  json["run"] = {{"dataset_manifest_sha256", run.at("dataset_manifest_sha256")},
+                 {"calibration", run.at("calibration")},
+                 {"options", run.at("options")}};
+  WriteJsonFile(out / kSummaryJsonName, json);
+  const std::string markdown = "# Pose estimation summary\n\nModel: " + summary.model +
+                               ". Dataset manifest SHA-256: " + run.at("dataset_manifest_sha256").get<std::string>() +
+                               ".\n\n" + SummaryToMarkdown(all);
+  WriteFileAtomic(out / kSummaryMarkdownName, markdown);
+}
+
+}  // namespace
+
+ReferenceModel BuildReferenceModel(const TriangleMesh& mesh, const StereoRig& rig, const ReferenceRequest& request) {
+  request.options.Check();
+  if (request.model != "full" && request.model != "shelled") {
+    throw Error("--model '" + request.model + "': expected full or shelled");
+  }
+  ReferenceModel full = FullModel(mesh, request.options);
+  if (request.model == "full") return full;
+  return ShellModel(full.points_in_receiver, mesh, rig, request.options);
+}
+
+CalibrateOutput CalibrateDataset(const std::filesystem::path& dataset, const CalibrationOptions& options) {
+  CalibrateOutput out;
+  out.result = CalibrateFromDataset(dataset, options);
+  const CalibrationResult& r = out.result;
+  nlohmann::json pairs = nlohmann::json::array();
+  for (const PairDetection& p : r.pairs) pairs.push_back({{"used", p.used}, {"reason", p.reason}});
+  out.report = {{"schema", "aar-calibration-report/1"},
+                {"rms_reprojection_px", r.rms_reprojection_px},
+                {"left_rms_px", r.left_rms_px},
+                {"right_rms_px", r.right_rms_px},
+                {"epipolar_error_px", r.epipolar_error_px},
+                {"epipolar_algebraic", r.epipolar_algebraic},
+                {"corner_count", r.corner_count},
+                {"used_pairs", r.used_pairs},
+                {"pairs", pairs},
+                {"Q", MatJson(r.calibration.Q)}};
+  if (r.versus_ideal) {
+    const IdealComparison& v = *r.versus_ideal;
+    out.report["versus_ideal"] = {{"q_percent_error", MatJson(v.q_percent_error)},
+                                  {"focal_error_percent", v.focal_error_percent},
+                                  {"baseline_error_percent", v.baseline_error_percent},
+                                  {"left_fx_error_percent", v.left_fx_error_percent},
+                                  {"right_fx_error_percent", v.right_fx_error_percent},
+                                  {"left_principal_point_error_px", v.left_principal_point_error_px},
+                                  {"rotation_error_deg", v.rotation_error_deg},
+                                  {"baseline_direction_error_deg", v.baseline_direction_error_deg}};
+  }
+  return out;
+}
+
+void WriteCalibrationOutputs(const std::filesystem::path& out, const CalibrateOutput& calibration) {
+  EnsureWritableDirectory(out);
+  WriteCalibration(out / kCalibrationYamlName, calibration.result.calibration);
+  WriteJsonFile(out / kCalibrationReportName, calibration.report);
+}
+
+AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
+  // Everything that makes the run impossible fails here, before any output.
+  options.frame.Check();
+  const Manifest manifest = ReadManifest(options.dataset);
+  if (manifest.frame_count == 0) throw Error((options.dataset / kManifestName).string() + ": dataset has no frames");
+  const StereoRig rig = LoadRig(options.dataset / kRigName);
+  std::optional<CalibrateOutput> calibrated;
+  StereoCalibration calibration;
+  nlohmann::json calibration_source;
+  if (options.calibration) {
+    calibration = ReadCalibration(*options.calibration);
+    calibration_source = {{"file", options.calibration->filename().string()},
+                          {"sha256", Sha256File(*options.calibration)}};
+  } else {
+    calibrated = CalibrateDataset(options.dataset, options.calibration_options);
+    calibration = calibrated->result.calibration;
+    calibration_source = {{"calibrated_from", "calib/"}, {"used_pairs", calibrated->result.used_pairs}};
+  }
+  if (calibration.image_size != cv::Size(rig.left.intrinsics.width_px, rig.left.intrinsics.height_px)) {
+    throw Error("calibration image size differs from the dataset's rig");
+  }
+  const TriangleMesh mesh = LoadReceiverMesh(options.receiver_model.value_or(options.dataset / kReceiverModelName));
+  const ReferenceModel reference = BuildReferenceModel(mesh, rig, options.reference);
+  if (options.progress) {
+    std::fprintf(stderr, "reference model '%s': %zu points\n", reference.name.c_str(),
+                 reference.points_in_receiver.size());
+  }
+  const FrameAnalyzer analyzer(calibration, rig.left.tanker_from_camera, reference.points_in_receiver, options.frame);
+
+  const nlohmann::json run = {{"schema", "aar-run/1"},
+                              {"dataset_manifest_sha256", Sha256File(options.dataset / kManifestName)},
+                              {"model", reference.name},
+                              {"reference_points", reference.points_in_receiver.size()},
+                              {"calibration", calibration_source},
+                              {"frames", DescribeSelection(options.selection)},
+                              {"options", OptionsJson(options)}};
+  if (options.write_outputs) {
+    EnsureWritableDirectory(options.out);
+    if (calibrated) {
+      WriteCalibrationOutputs(options.out, *calibrated);
+    } else {
+      WriteCalibration(options.out / kCalibrationYamlName, calibration);
+    }
+    WritePly(options.out / ("reference_" + reference.name + ".ply"), reference.points_in_receiver,
+             {"aar-analyze reference model '" + reference.name + "', receiver frame, metres"});
+    WriteJsonFile(options.out / kRunJsonName, run);
+  }
+
+  AnalysisRunResult result;
+  result.reference_points = reference.points_in_receiver.size();
+  const std::vector<size_t> selected = options.selection.Select(manifest.frame_count);
+  Progress progress("analyze " + reference.name, selected.size());
+  std::optional<Pose> previous;
+  for (size_t index : selected) {
+    FrameResult frame = analyzer.Analyze(options.dataset, index, manifest.files, previous);
+    if (frame.ok()) {
+      previous = frame.estimate;
+    } else {
+      previous.reset();
+      if (options.progress) std::fprintf(stderr, "frame %zu not measured: %s\n", index, frame.status.c_str());
+    }
+    result.frames.push_back(std::move(frame));
+    if (options.progress) progress.Advance();
+  }
+  if (options.progress) progress.Finish();
+  result.summary = SummarizeFrames(reference.name, result.frames);
+  if (options.write_outputs) {
+    WriteFrameResults(options.out / kFramesCsvName, result.frames);
+    WriteSummary(options.out, run, result.summary);
+  }
+  return result;
+}
+
+void MergeRuns(const std::vector<std::filesystem::path>& shard_dirs, const std::filesystem::path& out) {
+  if (shard_dirs.empty()) throw Error("merge: no shard folders given");
+  std::vector<std::vector<FrameResult>> shards;
+  std::vector<std::string> names;
+  nlohmann::json first_run;
+  for (const std::filesystem::path& dir : shard_dirs) {
+    nlohmann::json run = ReadJsonFile(dir / kRunJsonName);
+    if (first_run.is_null()) {
+      first_run = run;
+    } else {
+      for (const char* key : {"dataset_manifest_sha256", "model", "calibration", "options"}) {
+        if (run.at(key) != first_run.at(key)) {
+          throw Error((dir / kRunJsonName).string() + ": '" + key + "' differs from " +
+                      (shard_dirs.front() / kRunJsonName).string());
+        }
+      }
+    }
+    shards.push_back(ReadFrameResults(dir / kFramesCsvName));
+    names.push_back((dir / kFramesCsvName).string());
+  }
+  const std::vector<FrameResult> merged = MergeFrameResults(shards, names);
+  EnsureWritableDirectory(out);
+  first_run["frames"] = "merged from " + std::to_string(shard_dirs.size()) + " shards";
+  WriteJsonFile(out / kRunJsonName, first_run);
+  WriteFrameResults(out / kFramesCsvName, merged);
+  WriteSummary(out, first_run, SummarizeFrames(first_run.at("model").get<std::string>(), merged));
+}
+
+}  // namespace aar

@@ -1,0 +1,105 @@
+#include "aar/analyzer/disparity.h"
+
+#include <cmath>
+#include <string>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "aar/error.h"
+
+namespace aar {
+namespace {
+
+cv::Ptr<cv::StereoMatcher> MakeMatcher(const DisparityOptions& o) {
+  if (o.algorithm == DisparityAlgorithm::kBlockMatching) {
+    cv::Ptr<cv::StereoBM> bm = cv::StereoBM::create(o.num_disparities, o.block_size);
+    bm->setMinDisparity(o.min_disparity);
+    bm->setPreFilterType(cv::StereoBM::PREFILTER_XSOBEL);
+    bm->setPreFilterCap(o.pre_filter_cap);
+    bm->setTextureThreshold(o.texture_threshold);
+    bm->setUniquenessRatio(o.uniqueness_ratio);
+    bm->setDisp12MaxDiff(o.disp12_max_diff);
+    bm->setSpeckleWindowSize(0);  // filtered below with explicit units
+    bm->setSpeckleRange(0);
+    return bm;
+  }
+  return cv::StereoSGBM::create(o.min_disparity, o.num_disparities, o.block_size, o.sgbm_p1, o.sgbm_p2,
+                                o.disp12_max_diff, o.pre_filter_cap, o.uniqueness_ratio, 0, 0,
+                                cv::StereoSGBM::MODE_SGBM);
+}
+
+}  // namespace
+
+bool DisparityOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (num_disparities <= 0 || num_disparities % 16 != 0) return fail("num_disparities must be a positive multiple of 16");
+  if (block_size < 5 || block_size > 255 || block_size % 2 == 0) {
+    if (algorithm == DisparityAlgorithm::kBlockMatching || block_size < 1 || block_size % 2 == 0) {
+      return fail("block_size must be odd (5..255 for block matching)");
+    }
+  }
+  if (pre_filter_cap < 1 || pre_filter_cap > 63) return fail("pre_filter_cap must be in 1..63");
+  if (texture_threshold < 0) return fail("texture_threshold must be non-negative");
+  if (uniqueness_ratio < 0) return fail("uniqueness_ratio must be non-negative");
+  if (speckle_window_size < 0) return fail("speckle_window_size must be non-negative");
+  if (!(speckle_range_px >= 0)) return fail("speckle_range_px must be non-negative");
+  if (sgbm_p1 < 0 || sgbm_p2 <= sgbm_p1) return fail("SGBM needs 0 <= p1 < p2");
+  return true;
+}
+
+cv::Mat ToGrayscale(const cv::Mat& image) {
+  if (image.empty() || image.depth() != CV_8U) throw Error("expected a non-empty 8-bit image");
+  cv::Mat gray;
+  switch (image.channels()) {
+    case 1: return image;
+    case 3: cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY); return gray;
+    case 4: cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY); return gray;
+    default: throw Error("expected 1, 3 or 4 channels");
+  }
+}
+
+Rectifier::Rectifier(const StereoCalibration& c) : image_size_(c.image_size) {
+  if (image_size_.width <= 0 || image_size_.height <= 0) throw Error("rectifier: calibration has no image size");
+  cv::initUndistortRectifyMap(c.M1, c.D1, c.R1, c.P1, image_size_, CV_16SC2, left_map1_, left_map2_);
+  cv::initUndistortRectifyMap(c.M2, c.D2, c.R2, c.P2, image_size_, CV_16SC2, right_map1_, right_map2_);
+}
+
+void Rectifier::Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& rect_left_gray,
+                        cv::Mat& rect_right_gray) const {
+  if (left.size() != image_size_ || right.size() != image_size_) {
+    throw Error("rectifier: images are " + std::to_string(left.cols) + "x" + std::to_string(left.rows) + " and " +
+                std::to_string(right.cols) + "x" + std::to_string(right.rows) + ", calibration is for " +
+                std::to_string(image_size_.width) + "x" + std::to_string(image_size_.height));
+  }
+  cv::remap(ToGrayscale(left), rect_left_gray, left_map1_, left_map2_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  cv::remap(ToGrayscale(right), rect_right_gray, right_map1_, right_map2_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+}
+
+DisparityMap ComputeDisparity(const cv::Mat& rect_left_gray, const cv::Mat& rect_right_gray,
+                              const DisparityOptions& options) {
+  std::string invalid;
+  if (!options.IsValid(&invalid)) throw Error("disparity options: " + invalid);
+  if (rect_left_gray.type() != CV_8UC1 || rect_right_gray.type() != CV_8UC1) {
+    throw Error("disparity: rectified images must be 8-bit grayscale");
+  }
+  if (rect_left_gray.size() != rect_right_gray.size()) throw Error("disparity: rectified images differ in size");
+
+  DisparityMap map;
+  map.invalid_value16 = options.InvalidValue16();
+  MakeMatcher(options)->compute(rect_left_gray, rect_right_gray, map.disparity16);
+  CV_Assert(map.disparity16.type() == CV_16SC1);
+  if (options.speckle_window_size > 0) {
+    // Thesis 3.4: OpenCV's speckle filter, maxDiff in the map's 1/16 px units.
+    const double max_diff16 = std::round(options.speckle_range_px * 16.0);
+    cv::filterSpeckles(map.disparity16, map.invalid_value16, options.speckle_window_size, max_diff16);
+  }
+  map.disparity16.convertTo(map.disparity, CV_32F, 1.0 / 16.0);
+  map.valid_count = static_cast<size_t>(cv::countNonZero(map.disparity16 > map.invalid_value16));
+  return map;
+}
+
+}  // namespace aar
