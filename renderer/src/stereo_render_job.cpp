@@ -87,7 +87,7 @@ Session OpenSession(const RenderJobOptions& options, const StereoRig& rig) {
 
 // Renders, encodes and writes one stereo pair and its sidecar (written last).
 void WritePair(Session& session, const std::vector<RenderItem>& items, const std::filesystem::path& dataset,
-               const std::string& dir, FrameSidecar sidecar, bool depth, StageTimes& times) {
+               const std::string& dir, FrameSidecar sidecar, bool depth, RenderStageTimes& times) {
   const std::string stem = FrameStem(sidecar.index);
   for (const char* side : {"left", "right"}) {
     const Camera& camera = std::string(side) == "left" ? session.rig.left : session.rig.right;

@@ -28,7 +28,7 @@ struct RenderJobOptions {
 };
 
 /// Accumulated wall time per stage over the pairs rendered [ms].
-struct StageTimes {
+struct RenderStageTimes {
   double render_ms = 0.0;    ///< GPU passes (all MSAA passes of both views)
   double readback_ms = 0.0;  ///< copies to host memory, half-to-float, averaging
   double encode_ms = 0.0;    ///< sRGB conversion and PNG (and EXR) encoding
@@ -40,7 +40,7 @@ struct RenderJobResult {
   size_t rendered = 0;   ///< pairs rendered by this run
   size_t skipped = 0;    ///< pairs already complete and verified
   bool complete = false; ///< the whole dataset is complete (manifest finalized)
-  StageTimes times;
+  RenderStageTimes times;
   std::string msaa_method;  ///< "native" or "composed"
   std::string device;       ///< Vulkan device name
 };
