@@ -111,6 +111,11 @@ void WritePair(Session& session, const std::vector<RenderItem>& items, const std
     start = std::chrono::steady_clock::now();
     const std::string relative = dir + "/" + stem + "_left_depth.exr";
     sidecar.files["left_depth"] = FileRef{relative, WriteDepthExr(dataset / relative, truth)};
+    const std::string mask_png = EncodePng(cv::Mat(truth.height, truth.width, CV_8UC1,
+                                                   const_cast<uint8_t*>(truth.object_id.data())));
+    const std::string mask_relative = dir + "/" + stem + "_left_mask.png";
+    WriteFileAtomic(dataset / mask_relative, mask_png);
+    sidecar.files["left_mask"] = FileRef{mask_relative, Sha256Hex(mask_png)};
     times.encode_ms += MillisecondsSince(start);
   }
   auto start = std::chrono::steady_clock::now();

@@ -90,6 +90,15 @@ TEST(Render, ShortFlightPathSidecarsCarryTruth) {
   }
   EXPECT_GT(nearest, 20.0f);
   EXPECT_LT(farthest, 45.0f);
+
+  // The mask marks exactly the pixels with depth as receiver (no anti-aliased edge values).
+  const cv::Mat mask = cv::imread((o.output / s1.files.at("left_mask").path).string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(mask.type(), CV_8UC1);
+  for (int i = 0; i < 1024 * 768; ++i) {
+    const uint8_t id = mask.data[i];
+    ASSERT_TRUE(id == 0 || id == 1) << "pixel " << i << " has id " << int(id);
+    ASSERT_EQ(id == 1, depth[i] > 0) << "pixel " << i;
+  }
 }
 
 // Detected board corners in rendered x16 images agree with cv::projectPoints

@@ -14,7 +14,7 @@ namespace aar {
 /// round-to-nearest of the sRGB transfer function.
 cv::Mat ToSrgb8(const LinearImage& image);
 
-/// PNG bytes (8-bit sRGB, 3 channels) of an image from ToSrgb8.
+/// PNG bytes of an 8-bit image (ToSrgb8's BGR, or a one-channel mask).
 std::string EncodePng(const cv::Mat& bgr8);
 
 /// Writes the depth of a ground-truth image as a one-channel 32-bit float
