@@ -5,6 +5,8 @@
 #include "aar/analyzer/mesh.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
+#include "aar/flight_path.h"
+#include "aar/region.h"
 #include "aar/progress.h"
 
 namespace aar {
@@ -130,8 +132,17 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
     calibration = calibrated->result.calibration;
     calibration_source = {{"calibrated_from", "calib/"}, {"used_pairs", calibrated->result.used_pairs}};
   }
-  if (calibration.image_size != cv::Size(rig.left.intrinsics.width_px, rig.left.intrinsics.height_px)) {
-    throw Error("calibration image size differs from the dataset's rig");
+  const cv::Size rig_size(rig.left.intrinsics.width_px, rig.left.intrinsics.height_px);
+  if (calibration.image_size != rig_size) {
+    throw Error((options.calibration ? options.calibration->string() : std::string("calibration")) +
+                ": image size " + std::to_string(calibration.image_size.width) + "x" +
+                std::to_string(calibration.image_size.height) + " differs from the dataset's " +
+                std::to_string(rig_size.width) + "x" + std::to_string(rig_size.height));
+  }
+  // Truth for frames whose sidecar cannot be read comes from the flight path.
+  std::vector<FlightSample> flight_path;
+  if (std::filesystem::is_regular_file(options.dataset / kFlightPathName)) {
+    flight_path = ReadFlightPath(options.dataset / kFlightPathName);
   }
   const TriangleMesh mesh = LoadReceiverMesh(options.receiver_model.value_or(options.dataset / kReceiverModelName));
   const ReferenceModel reference = BuildReferenceModel(mesh, rig, options.reference);
@@ -170,6 +181,12 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
     if (frame.ok()) {
       previous = frame.estimate;
     } else {
+      if (frame.range_m == 0.0 && index < flight_path.size()) {
+        frame.time_s = flight_path[index].time_s;
+        frame.truth = flight_path[index].tanker_from_receiver;
+        frame.range_m = (frame.truth.translation_m - rig.left.tanker_from_camera.translation()).norm();
+        frame.region = RegionForRange(frame.range_m);
+      }
       previous.reset();
       if (options.progress) std::fprintf(stderr, "frame %zu not measured: %s\n", index, frame.status.c_str());
     }
