@@ -22,7 +22,7 @@ struct RunFlags {
   std::string frames;
   std::string shard;
   std::string seed = "centroid";
-  std::string correspondence = "model_to_sensed";
+  std::string correspondence = aar::ToString(aar::FrameAnalysisOptions{}.icp.correspondence);
   std::string disparity = "bm";
 };
 
@@ -37,7 +37,7 @@ void AddRunFlags(CLI::App* cmd, RunFlags& f) {
   cmd->add_option("--shard", f.shard, "analyze frames i with i % N == K (K/N); defaults to the Slurm array variables");
   cmd->add_option("--seed", f.seed, "ICP seed: centroid (thesis) or previous (last frame's estimate)")
       ->capture_default_str();
-  cmd->add_option("--correspondence", f.correspondence, "ICP pairing: model_to_sensed (thesis) or sensed_to_model")
+  cmd->add_option("--correspondence", f.correspondence, "ICP pairing: sensed_to_model or model_to_sensed")
       ->capture_default_str();
   cmd->add_option("--icp-iterations", o.frame.icp.max_iterations, "ICP iterations at most")->capture_default_str();
   cmd->add_option("--max-correspondence", o.frame.icp.max_correspondence_distance_m,
@@ -46,6 +46,9 @@ void AddRunFlags(CLI::App* cmd, RunFlags& f) {
   cmd->add_option("--num-disparities", o.frame.disparity.num_disparities, "disparities searched")
       ->capture_default_str();
   cmd->add_option("--block-size", o.frame.disparity.block_size, "matching block size [px]")->capture_default_str();
+  cmd->add_option("--disparity-offset", o.frame.reprojection.disparity_offset_px,
+                  "subtracted from every disparity before re-projection [px] (0 = thesis)")
+      ->capture_default_str();
   cmd->add_option("--keep-one-in", o.frame.reprojection.keep_one_in, "keep one re-projected point in N")
       ->capture_default_str();
   cmd->add_option("--points", o.reference.options.num_points, "full-model points")->capture_default_str();

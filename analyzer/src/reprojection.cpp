@@ -34,7 +34,7 @@ SensedCloud Reproject(const cv::Mat& disparity16, int invalid_value16, const Ste
     const short* row = disparity16.ptr<short>(v);
     for (int u = 0; u < disparity16.cols; ++u) {
       if (row[u] <= invalid_value16) continue;
-      const double d = row[u] / 16.0;
+      const double d = row[u] / 16.0 - options.disparity_offset_px;
       const Eigen::Vector4d h = q * Eigen::Vector4d(u, v, d, 1.0);  // thesis eq. 1
       const Eigen::Vector3d point_in_rect_left = h.head<3>() / h.w();
       const double z = point_in_rect_left.z();

@@ -14,6 +14,15 @@
 namespace aar {
 namespace {
 
+// The thesis's plain re-projection (no disparity offset): the geometry tests
+// check equation 1 exactly.
+ReprojectionOptions PlainOptions() {
+  ReprojectionOptions options;
+  options.disparity_offset_px = 0.0;
+  return options;
+}
+
+
 StereoRig TestRig() { return LoadRig(std::filesystem::path(AAR_SOURCE_DIR) / "scenes" / "rig.json"); }
 
 constexpr int kInvalid16 = -16;  // (min_disparity - 1) * 16 with min_disparity 0
@@ -30,7 +39,7 @@ TEST(Reprojection, ConstantDisparityPlaneLandsAtFocalTimesBaselineOverDisparity)
   const double cx = rig.left.intrinsics.cx_px, cy = rig.left.intrinsics.cy_px;
   const short d16 = 200;  // 12.5 px
   const cv::Mat disparity(kHeight, kWidth, CV_16S, cv::Scalar(d16));
-  ReprojectionOptions options;
+  ReprojectionOptions options = PlainOptions();
   const SensedCloud cloud = Reproject(disparity, kInvalid16, c, tanker_from_left, options);
 
   const size_t n = static_cast<size_t>(kWidth) * kHeight;
@@ -60,7 +69,7 @@ TEST(Reprojection, SlantedPlaneStaysOnItsPlaneInTheTankerFrame) {
   for (int v = 0; v < kHeight; ++v) {
     for (int u = 0; u < kWidth; ++u) disparity.at<short>(v, u) = static_cast<short>(std::lround(16 * (a * u + bb * v + c0)));
   }
-  ReprojectionOptions options;
+  ReprojectionOptions options = PlainOptions();
   options.keep_one_in = 1;
   const SensedCloud cloud = Reproject(disparity, kInvalid16, c, tanker_from_left, options);
   ASSERT_EQ(cloud.kept_count, static_cast<size_t>(kWidth) * kHeight);
@@ -97,14 +106,14 @@ TEST(Reprojection, DropsInvalidBehindAndBeyondMaxDepthThenKeepsOneInEight) {
   ASSERT_LE(fb / (at_limit / 16.0), 750.0);
   disparity.at<short>(4, 0) = at_limit;
 
-  const SensedCloud cloud = Reproject(disparity, kInvalid16, c, Eigen::Isometry3d::Identity(), ReprojectionOptions{});
+  const SensedCloud cloud = Reproject(disparity, kInvalid16, c, Eigen::Isometry3d::Identity(), PlainOptions());
   EXPECT_EQ(cloud.valid_count, expected_valid);
   EXPECT_EQ(cloud.kept_count, (expected_valid + 7) / 8);
   for (const Eigen::Vector3d& p : cloud.points_in_tanker) {
     ASSERT_GT(p.z(), 0.0);
     ASSERT_LE(p.z(), 750.0);
   }
-  ReprojectionOptions keep_all;
+  ReprojectionOptions keep_all = PlainOptions();
   keep_all.keep_one_in = 1;
   const SensedCloud all = Reproject(disparity, kInvalid16, c, Eigen::Isometry3d::Identity(), keep_all);
   ASSERT_EQ(all.kept_count, expected_valid);
@@ -123,7 +132,7 @@ TEST(Reprojection, MatchesReprojectImageTo3DAndUndoesRectification) {
   cv::Mat disparity(kHeight, kWidth, CV_16S);
   cv::RNG rng(7);
   rng.fill(disparity, cv::RNG::UNIFORM, 16, 16 * 40);
-  ReprojectionOptions options;
+  ReprojectionOptions options = PlainOptions();
   options.keep_one_in = 1;
   const SensedCloud cloud = Reproject(disparity, kInvalid16, c, Eigen::Isometry3d::Identity(), options);
   ASSERT_EQ(cloud.kept_count, static_cast<size_t>(kWidth) * kHeight);
@@ -144,11 +153,23 @@ TEST(Reprojection, IsBitwiseRepeatable) {
   cv::Mat disparity(kHeight, kWidth, CV_16S);
   cv::RNG rng(11);
   rng.fill(disparity, cv::RNG::UNIFORM, -16, 16 * 48);
-  const SensedCloud a = Reproject(disparity, kInvalid16, c, rig.left.tanker_from_camera, ReprojectionOptions{});
-  const SensedCloud b = Reproject(disparity, kInvalid16, c, rig.left.tanker_from_camera, ReprojectionOptions{});
+  const SensedCloud a = Reproject(disparity, kInvalid16, c, rig.left.tanker_from_camera, PlainOptions());
+  const SensedCloud b = Reproject(disparity, kInvalid16, c, rig.left.tanker_from_camera, PlainOptions());
   ASSERT_EQ(a.kept_count, b.kept_count);
   ASSERT_GT(a.kept_count, 0u);
   EXPECT_EQ(0, std::memcmp(a.points_in_tanker.data(), b.points_in_tanker.data(), a.kept_count * sizeof(Eigen::Vector3d)));
+}
+
+TEST(Reprojection, DisparityOffsetIsSubtractedBeforeEquationOne) {
+  const StereoRig rig = TestRig();
+  const StereoCalibration c = IdealCalibration(rig);
+  const cv::Mat disparity(kHeight, kWidth, CV_16S, cv::Scalar(short{200}));  // 12.5 px
+  ReprojectionOptions options = PlainOptions();
+  options.disparity_offset_px = 0.5;
+  const SensedCloud cloud = Reproject(disparity, kInvalid16, c, Eigen::Isometry3d::Identity(), options);
+  ASSERT_FALSE(cloud.points_in_tanker.empty());
+  const double expected_z = rig.left.intrinsics.fx_px * rig.Baseline() / 12.0;
+  EXPECT_NEAR(cloud.points_in_tanker.front().z(), expected_z, 1e-9);
 }
 
 }  // namespace
