@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <array>
-#include <iterator>
 #include <cmath>
-#include <cstdio>
-#include <ctime>
-#include <cstdlib>
 #include <cstdint>
+#include <iterator>
+#include <limits>
+#include <string>
 
 #include <Eigen/SVD>
 #include <nanoflann.hpp>
@@ -42,20 +41,21 @@ double SquaredDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 }
 
 // k-nearest result set (nanoflann's RESULTSET interface) that can be seeded
-// with candidate points before the search: their distances bound the search
-// from the first node, and points already held are not added twice.
+// with candidate points before the search, so that their distances bound the
+// search from the first node, and that ignores points at or beyond a radius.
+// Points already held are not added twice (a seed met again in the tree).
 class BoundedKnn {
  public:
-  BoundedKnn(size_t capacity, uint32_t* indices, double* squared)
-      : capacity_(capacity), indices_(indices), squared_(squared) {}
+  BoundedKnn(size_t capacity, uint32_t* indices, double* squared, double max_squared)
+      : capacity_(capacity), indices_(indices), squared_(squared), max_squared_(max_squared) {}
   size_t size() const { return count_; }
   bool full() const { return count_ == capacity_; }
-  double worstDist() const { return count_ < capacity_ ? std::numeric_limits<double>::max() : squared_[capacity_ - 1]; }
+  double worstDist() const { return count_ < capacity_ ? max_squared_ : squared_[capacity_ - 1]; }
   bool addPoint(double squared, uint32_t index) {
+    if (!(squared < worstDist())) return true;
     for (size_t i = 0; i < count_; ++i) {
-      if (indices_[i] == index) return true;  // a seed met again in the tree
+      if (indices_[i] == index) return true;
     }
-    if (count_ == capacity_ && !(squared < squared_[capacity_ - 1])) return true;
     size_t i = count_ < capacity_ ? count_++ : capacity_ - 1;
     for (; i > 0 && squared_[i - 1] > squared; --i) {  // insertion keeps earlier equal distances first
       squared_[i] = squared_[i - 1];
@@ -63,18 +63,19 @@ class BoundedKnn {
     }
     squared_[i] = squared;
     indices_[i] = index;
-    return true;
+    return true;  // keep searching
   }
 
  private:
   size_t capacity_;
   uint32_t* indices_;
   double* squared_;
+  double max_squared_;
   size_t count_ = 0;
 };
 
-using NanoflannTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>, PointsAdaptor, 3, uint32_t>;
+using NanoflannTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
+                                                          PointsAdaptor, 3, uint32_t>;
 
 }  // namespace
 
@@ -107,13 +108,13 @@ std::pair<size_t, double> KdTree3d::Nearest(const Eigen::Vector3d& query) const 
 }
 
 size_t KdTree3d::NearestK(const Eigen::Vector3d& query, size_t k, uint32_t* indices, double* squared_distances,
-                          size_t num_seeds) const {
+                          size_t num_seeds, double max_squared_distance) const {
   if (impl_->points.empty()) throw Error("KdTree3d: nearest-neighbour query on an empty tree");
   if (k == 0) return 0;
   uint32_t seeds[64];
   const size_t n = std::min({num_seeds, k, std::size(seeds)});
   std::copy(indices, indices + n, seeds);
-  BoundedKnn result(k, indices, squared_distances);
+  BoundedKnn result(k, indices, squared_distances, max_squared_distance);
   for (size_t i = 0; i < n; ++i) {
     if (seeds[i] < impl_->points.size()) result.addPoint(SquaredDistance(query, impl_->points[seeds[i]]), seeds[i]);
   }
@@ -125,25 +126,39 @@ size_t KdTree3d::NearestK(const Eigen::Vector3d& query, size_t k, uint32_t* indi
 
 namespace {
 
-// Nearest-neighbour search with a cache that skips the tree when the answer
-// provably has not changed. A full query at position a stores the K nearest
-// points and d_K, the K-th distance. Every other point k was at least d_K from
-// a, so for a later position x, |x - p_k| >= d_K - |x - a| (triangle
-// inequality). If the nearest of the stored K is within d_K - |x - a| of x, it
-// is an exact nearest neighbour and the tree is not needed. Late ICP
-// iterations move points by millimetres, much less than the point spacing, so
-// most queries are answered from the cache; the pairs are the same as with
-// full queries (up to ties between equidistant points).
+// Nearest-neighbour search limited to a radius R (the correspondence
+// distance; infinite by default), with a cache that skips the tree when the
+// answer provably has not changed. A full query at position a stores the K
+// nearest points within R and a bound b: the K-th distance, or R when fewer
+// than K points lie within R. Every point not stored was at least b from a,
+// so at a later position x it is at least b - |x - a| away (triangle
+// inequality). If the nearest stored point is within b - |x - a| of x, it is
+// an exact nearest neighbour and the tree is not needed. Late ICP iterations
+// move points by millimetres, much less than the point spacing, so most
+// queries are answered from the cache, and a full query is warm-started from
+// the old answer. The pairs are the same as with plain queries (up to ties
+// between equidistant points); a finite R also makes far queries cheap.
 class CachedNearest {
  public:
   static constexpr size_t kK = 4;
+  static constexpr size_t kNone = static_cast<size_t>(-1);
 
-  CachedNearest(const KdTree3d& tree, size_t num_queries, bool enabled)
-      : tree_(tree), entries_(enabled ? num_queries : 0) {}
+  CachedNearest(const KdTree3d& tree, size_t num_queries, bool enabled, double radius_m)
+      : tree_(tree),
+        entries_(enabled ? num_queries : 0),
+        radius_m_(radius_m),
+        // nanoflann keeps points strictly nearer than the bound; one ulp more keeps distance == R.
+        radius_squared_(std::nextafter(radius_m * radius_m, std::numeric_limits<double>::infinity())) {}
 
-  // Index of the nearest tree point to `x` (query number `i`) and its squared distance.
+  // Nearest tree point to `x` (query number `i`) and its squared distance;
+  // {kNone, +inf} when no point lies within R.
   std::pair<size_t, double> Find(size_t i, const Eigen::Vector3d& x) {
-    if (entries_.empty()) return tree_.Nearest(x);
+    if (entries_.empty()) {
+      uint32_t index = 0;
+      double squared = 0.0;
+      if (tree_.NearestK(x, 1, &index, &squared, 0, radius_squared_) == 0) return {kNone, kInfinity};
+      return {index, squared};
+    }
     Entry& e = entries_[i];
     const std::vector<Eigen::Vector3d>& points = tree_.points();
     if (e.count > 0) {
@@ -160,14 +175,15 @@ class CachedNearest {
       if (margin >= 0.0 && best_squared <= margin * margin) return {best, best_squared};
     }
     double squared[kK];
-    e.count = tree_.NearestK(x, kK, e.indices.data(), squared, e.count);  // warm start from the old answer
+    e.count = tree_.NearestK(x, kK, e.indices.data(), squared, e.count, radius_squared_);  // warm start
     e.anchor = x;
-    // With fewer than K points in the tree every point is stored: no bound.
-    e.bound = e.count < kK ? std::numeric_limits<double>::infinity() : std::sqrt(squared[kK - 1]);
+    e.bound = e.count < kK ? radius_m_ : std::sqrt(squared[kK - 1]);
+    if (e.count == 0) return {kNone, kInfinity};
     return {e.indices[0], squared[0]};
   }
 
  private:
+  static constexpr double kInfinity = std::numeric_limits<double>::infinity();
   struct Entry {
     std::array<uint32_t, kK> indices{};
     size_t count = 0;
@@ -176,6 +192,8 @@ class CachedNearest {
   };
   const KdTree3d& tree_;
   std::vector<Entry> entries_;
+  double radius_m_;
+  double radius_squared_;
 };
 
 // Pairs (model point in receiver frame, sensed point in tanker frame) of one
@@ -191,7 +209,9 @@ struct Pairs {
 
 void CheckFinite(const std::vector<Eigen::Vector3d>& points, const char* what) {
   for (size_t i = 0; i < points.size(); ++i) {
-    if (!points[i].allFinite()) throw Error(std::string("ICP: ") + what + " point " + std::to_string(i) + " is not finite");
+    if (!points[i].allFinite()) {
+      throw Error(std::string("ICP: ") + what + " point " + std::to_string(i) + " is not finite");
+    }
   }
 }
 
@@ -216,7 +236,8 @@ void IcpOptions::Check() const {
   if (kdtree_leaf_size < 1) throw Error("ICP: kdtree_leaf_size must be >= 1");
 }
 
-Eigen::Isometry3d RigidTransformFromPairs(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
+Eigen::Isometry3d RigidTransformFromPairs(const std::vector<Eigen::Vector3d>& a,
+                                          const std::vector<Eigen::Vector3d>& b) {
   if (a.size() != b.size() || a.empty()) throw Error("RigidTransformFromPairs: need equally many (>= 1) points");
   const double n = static_cast<double>(a.size());
   Eigen::Vector3d mean_a = Eigen::Vector3d::Zero();
@@ -275,11 +296,13 @@ IcpResult IcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
   std::unique_ptr<KdTree3d> sensed_tree;
   if (model_to_sensed) sensed_tree = std::make_unique<KdTree3d>(sensed, options_.kdtree_leaf_size);
   CachedNearest nearest(model_to_sensed ? *sensed_tree : *model_tree_, model_to_sensed ? model_.size() : sensed.size(),
-                        options_.cache_nearest);
+                        options_.cache_nearest, options_.max_correspondence_distance_m);
   const double max_squared = options_.max_correspondence_distance_m * options_.max_correspondence_distance_m;
 
   // Data association at tanker_from_receiver, in query order.
   Pairs pairs;
+  pairs.model.reserve(model_to_sensed ? model_.size() : sensed.size());
+  pairs.sensed.reserve(pairs.model.capacity());
   const auto associate = [&](const Eigen::Isometry3d& tanker_from_receiver) {
     pairs.model.clear();
     pairs.sensed.clear();
@@ -288,7 +311,7 @@ IcpResult IcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
       pairs.queries = model_.size();
       for (size_t i = 0; i < model_.size(); ++i) {
         const auto [j, squared] = nearest.Find(i, tanker_from_receiver * model_[i]);
-        if (squared > max_squared) continue;
+        if (j == CachedNearest::kNone || squared > max_squared) continue;
         pairs.model.push_back(model_[i]);
         pairs.sensed.push_back(sensed[j]);
         pairs.sum_squared += squared;
@@ -298,7 +321,7 @@ IcpResult IcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
       const Eigen::Isometry3d receiver_from_tanker = tanker_from_receiver.inverse();
       for (size_t i = 0; i < sensed.size(); ++i) {
         const auto [j, squared] = nearest.Find(i, receiver_from_tanker * sensed[i]);
-        if (squared > max_squared) continue;
+        if (j == CachedNearest::kNone || squared > max_squared) continue;
         pairs.model.push_back(model_[j]);
         pairs.sensed.push_back(sensed[i]);
         pairs.sum_squared += squared;
@@ -311,10 +334,7 @@ IcpResult IcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
   double previous_mse = 0.0;
   bool stop_after_association = false;
   for (int k = 0;; ++k) {
-    timespec ts0, ts1; clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts0);
     associate(result.tanker_from_receiver);
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts1);
-    if (getenv("ICP_DEBUG")) fprintf(stderr, "it %d mse %.6g  %.2f ms\n", k, pairs.Mse(), (ts1.tv_sec-ts0.tv_sec)*1e3+(ts1.tv_nsec-ts0.tv_nsec)*1e-6);
     const double mse = pairs.Mse();
     if (k == 0) result.initial_rmse_m = std::sqrt(mse);
     if (stop_after_association) break;
@@ -345,7 +365,8 @@ IcpResult IcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
 IcpResult RegisterIcp(const std::vector<Eigen::Vector3d>& model_points_in_receiver,
                       const std::vector<Eigen::Vector3d>& sensed_points_in_tanker,
                       const Eigen::Isometry3d& initial_tanker_from_receiver, const IcpOptions& options) {
-  return IcpRegistration(model_points_in_receiver, options).Register(sensed_points_in_tanker, initial_tanker_from_receiver);
+  return IcpRegistration(model_points_in_receiver, options)
+      .Register(sensed_points_in_tanker, initial_tanker_from_receiver);
 }
 
 }  // namespace aar

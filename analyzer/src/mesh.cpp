@@ -16,8 +16,7 @@ namespace {
 
 // Images are never needed here; skipping their decoding keeps loading fast
 // and independent of the image codecs tinygltf was built with.
-bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
-               void*) {
+bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
   return true;
 }
 
@@ -87,15 +86,20 @@ std::vector<uint32_t> ReadIndices(const tinygltf::Model& model, int index, const
   for (size_t i = 0; i < view.count; ++i) {
     const unsigned char* p = view.data + i * view.stride;
     switch (view.component_type) {
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: indices[i] = *p; break;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        indices[i] = *p;
+        break;
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
         uint16_t v;
         std::memcpy(&v, p, sizeof(v));
         indices[i] = v;
         break;
       }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: std::memcpy(&indices[i], p, sizeof(uint32_t)); break;
-      default: throw Error(where + ": index accessor has a non-integer component type");
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+        std::memcpy(&indices[i], p, sizeof(uint32_t));
+        break;
+      default:
+        throw Error(where + ": index accessor has a non-integer component type");
     }
   }
   return indices;
@@ -148,8 +152,11 @@ void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& pr
     for (size_t i = 0; i + 2 < indices.size(); i += 3) add(indices[i], indices[i + 1], indices[i + 2]);
   } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
     for (size_t i = 0; i + 2 < indices.size(); ++i) {
-      if (i % 2 == 0) add(indices[i], indices[i + 1], indices[i + 2]);
-      else add(indices[i + 1], indices[i], indices[i + 2]);
+      if (i % 2 == 0) {
+        add(indices[i], indices[i + 1], indices[i + 2]);
+      } else {  // odd triangles of a strip are wound the other way
+        add(indices[i + 1], indices[i], indices[i + 2]);
+      }
     }
   } else {  // fan
     for (size_t i = 1; i + 1 < indices.size(); ++i) add(indices[0], indices[i], indices[i + 1]);

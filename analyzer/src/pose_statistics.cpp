@@ -19,8 +19,8 @@ constexpr int kValueDecimals = 6;  // seconds, metres, degrees
 constexpr int kTimeDecimals = 3;   // milliseconds
 constexpr size_t kColumns = 34;
 
-const std::array<const char*, 6> kTimeColumns = {"ms_load", "ms_rectify", "ms_disparity", "ms_reproject", "ms_icp",
-                                                 "ms_total"};
+const std::array<const char*, 6> kTimeColumns = {"ms_load",      "ms_rectify", "ms_disparity",
+                                                 "ms_reproject", "ms_icp",     "ms_total"};
 
 std::array<double*, 6> TimeFields(StageTimes& t) {
   return {&t.load_ms, &t.rectify_ms, &t.disparity_ms, &t.reproject_ms, &t.icp_ms, &t.total_ms};
@@ -163,8 +163,9 @@ std::string DofTable(const Summary& summary, const std::vector<std::string>& gro
       out += "| | Difference (%) |";
       for (size_t d = 0; d < 6; ++d) {
         const bool valid = f->ok > 0 && s->ok > 0 && f->mean_abs_error[d] > 0.0;
-        AppendCell(out, valid ? FormatFixed(100.0 * (f->mean_abs_error[d] - s->mean_abs_error[d]) / f->mean_abs_error[d], 2)
-                              : std::string("n/a"));
+        AppendCell(out,
+                   valid ? FormatFixed(100.0 * (f->mean_abs_error[d] - s->mean_abs_error[d]) / f->mean_abs_error[d], 2)
+                         : std::string("n/a"));
       }
       AppendCell(out, std::string());  // no frame count
       out += "\n";
@@ -216,7 +217,9 @@ std::string FormatFrameResults(const std::vector<FrameResult>& results) {
     const SixDof truth = PoseValues(f.truth);
     const SixDof estimate = PoseValues(f.estimate);
     for (const SixDof* v : {&truth, &estimate, &f.error}) {
-      for (size_t d = 0; d < 6; ++d) field(v == &truth || f.ok() ? FormatFixed((*v)[d], kValueDecimals) : std::string());
+      for (size_t d = 0; d < 6; ++d) {
+        field(v == &truth || f.ok() ? FormatFixed((*v)[d], kValueDecimals) : std::string());
+      }
     }
     field(std::to_string(f.sensed_points));
     field(std::to_string(f.icp_iterations));
@@ -302,7 +305,7 @@ std::vector<FrameResult> MergeFrameResults(const std::vector<std::vector<FrameRe
   const auto name = [&](size_t shard) {
     return shard < shard_names.size() ? shard_names[shard] : "shard " + std::to_string(shard);
   };
-  std::map<size_t, size_t> shard_of_frame;  // frame index -> shard
+  std::map<size_t, size_t> shard_of_frame;       // frame index -> shard
   std::vector<std::pair<size_t, size_t>> order;  // (shard, position)
   for (size_t s = 0; s < shards.size(); ++s) {
     for (size_t i = 0; i < shards[s].size(); ++i) {
@@ -325,7 +328,8 @@ std::vector<FrameResult> MergeFrameResults(const std::vector<std::vector<FrameRe
 
 ModelSummary SummarizeFrames(const std::string& model, const std::vector<FrameResult>& frames) {
   std::vector<FrameResult> sorted = frames;
-  std::stable_sort(sorted.begin(), sorted.end(), [](const FrameResult& a, const FrameResult& b) { return a.frame < b.frame; });
+  std::stable_sort(sorted.begin(), sorted.end(),
+                   [](const FrameResult& a, const FrameResult& b) { return a.frame < b.frame; });
   // Quantise exactly as the CSV does, so shard merges reproduce single runs.
   const std::vector<FrameResult> quantised = ParseFrameResults(FormatFrameResults(sorted), "summary of " + model);
   ModelSummary summary;
@@ -367,13 +371,17 @@ std::string SummaryToMarkdown(const Summary& summary) {
   const std::vector<std::string> bins = {"20-60", "60-110"};
   const std::vector<std::string> regions = {"A", "B", "C"};
   std::string out;
-  out += std::string("## Mean absolute 6DOF error by range (Table 1 layout)\n\n") + DofTable(summary, bins, "Range", false) + "\n";
+  out += std::string("## Mean absolute 6DOF error by range (Table 1 layout)\n\n") +
+         DofTable(summary, bins, "Range", false) + "\n";
   out += std::string("## RMS 6DOF error by range (Table 2 layout)\n\n") + DofTable(summary, bins, "Range", true) + "\n";
-  out += std::string("## Mean absolute 6DOF error by region (Table 4 layout)\n\n") + DofTable(summary, regions, "Region", false) + "\n";
-  out += std::string("## RMS 6DOF error by region (Table 5 layout)\n\n") + DofTable(summary, regions, "Region", true) + "\n";
-  out += "## ICP execution time by range (Table 3 layout; machine-dependent)\n\n"
-         "| Range | Model | Average ICP time (ms) | Standard deviation (ms) | Frames (ok) |\n"
-         "|---|---|---:|---:|---:|\n";
+  out += std::string("## Mean absolute 6DOF error by region (Table 4 layout)\n\n") +
+         DofTable(summary, regions, "Region", false) + "\n";
+  out += std::string("## RMS 6DOF error by region (Table 5 layout)\n\n") + DofTable(summary, regions, "Region", true) +
+         "\n";
+  out +=
+      "## ICP execution time by range (Table 3 layout; machine-dependent)\n\n"
+      "| Range | Model | Average ICP time (ms) | Standard deviation (ms) | Frames (ok) |\n"
+      "|---|---|---:|---:|---:|\n";
   for (const std::string& group : bins) {
     bool first = true;
     for (const ModelSummary& m : summary.models) {

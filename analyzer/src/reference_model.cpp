@@ -16,9 +16,7 @@ namespace {
 
 // A real in [0, 1) from the top 53 bits of one raw mt19937_64 draw; the raw
 // sequence is fixed by the C++ standard, so samples match on every platform.
-double Uniform01(std::mt19937_64& generator) {
-  return static_cast<double>(generator() >> 11) * 0x1.0p-53;
-}
+double Uniform01(std::mt19937_64& generator) { return static_cast<double>(generator() >> 11) * 0x1.0p-53; }
 
 // Depth along the optical axis of the nearest surface at each pixel centre.
 struct DepthBuffer {
@@ -65,7 +63,8 @@ void RasterizeTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const
   std::array<double, 3> inverse_z;
   for (size_t i = 0; i < 3; ++i) {
     inverse_z[i] = 1.0 / cam[i].z();
-    px[i] = Eigen::Vector2d(k.fx_px * cam[i].x() * inverse_z[i] + k.cx_px, k.fy_px * cam[i].y() * inverse_z[i] + k.cy_px);
+    px[i] =
+        Eigen::Vector2d(k.fx_px * cam[i].x() * inverse_z[i] + k.cx_px, k.fy_px * cam[i].y() * inverse_z[i] + k.cy_px);
   }
   const auto edge = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q, double x, double y) {
     return (q.x() - p.x()) * (y - p.y()) - (q.y() - p.y()) * (x - p.x());
@@ -123,7 +122,6 @@ DepthBuffer RasterizeDepth(const TriangleMesh& mesh, const Intrinsics& k, const 
   return buffer;
 }
 
-
 // ---- PLY ----
 
 struct PlyProperty {
@@ -157,11 +155,31 @@ double PlyBinaryScalar(const unsigned char* p, const PlyProperty& property, bool
   const std::string& t = property.type;
   if (t == "char" || t == "int8") return static_cast<double>(static_cast<int8_t>(b[0]));
   if (t == "uchar" || t == "uint8") return static_cast<double>(b[0]);
-  if (t == "short" || t == "int16") { int16_t v; std::memcpy(&v, b, 2); return v; }
-  if (t == "ushort" || t == "uint16") { uint16_t v; std::memcpy(&v, b, 2); return v; }
-  if (t == "int" || t == "int32") { int32_t v; std::memcpy(&v, b, 4); return v; }
-  if (t == "uint" || t == "uint32") { uint32_t v; std::memcpy(&v, b, 4); return v; }
-  if (t == "float" || t == "float32") { float v; std::memcpy(&v, b, 4); return v; }
+  if (t == "short" || t == "int16") {
+    int16_t v;
+    std::memcpy(&v, b, 2);
+    return v;
+  }
+  if (t == "ushort" || t == "uint16") {
+    uint16_t v;
+    std::memcpy(&v, b, 2);
+    return v;
+  }
+  if (t == "int" || t == "int32") {
+    int32_t v;
+    std::memcpy(&v, b, 4);
+    return v;
+  }
+  if (t == "uint" || t == "uint32") {
+    uint32_t v;
+    std::memcpy(&v, b, 4);
+    return v;
+  }
+  if (t == "float" || t == "float32") {
+    float v;
+    std::memcpy(&v, b, 4);
+    return v;
+  }
   double v;
   std::memcpy(&v, b, 8);
   return v;
@@ -203,10 +221,10 @@ std::vector<Eigen::Vector3d> SampleSurface(const TriangleMesh& mesh, size_t num_
   points.reserve(num_points);
   for (size_t n = 0; n < num_points; ++n) {
     const double pick = Uniform01(generator) * total;
-    const size_t i = std::min<size_t>(
-        static_cast<size_t>(std::upper_bound(cumulative_area.begin(), cumulative_area.end(), pick) -
-                            cumulative_area.begin()),
-        cumulative_area.size() - 1);
+    const size_t i =
+        std::min<size_t>(static_cast<size_t>(std::upper_bound(cumulative_area.begin(), cumulative_area.end(), pick) -
+                                             cumulative_area.begin()),
+                         cumulative_area.size() - 1);
     const double sqrt_r1 = std::sqrt(Uniform01(generator));
     const double r2 = Uniform01(generator);
     const Eigen::Vector3i& t = mesh.triangles[i];
@@ -233,8 +251,9 @@ std::vector<bool> VisibleInCamera(const std::vector<Eigen::Vector3d>& points_in_
                                   const Intrinsics& intrinsics, const Eigen::Isometry3d& cam_from_receiver,
                                   double near_m, const ReferenceModelOptions& options) {
   options.Check();
-  const Intrinsics k = ScaledIntrinsics(intrinsics, options.raster_width_px > 0 ? options.raster_width_px : intrinsics.width_px,
-                                        options.raster_height_px > 0 ? options.raster_height_px : intrinsics.height_px);
+  const Intrinsics k =
+      ScaledIntrinsics(intrinsics, options.raster_width_px > 0 ? options.raster_width_px : intrinsics.width_px,
+                       options.raster_height_px > 0 ? options.raster_height_px : intrinsics.height_px);
   const DepthBuffer buffer = RasterizeDepth(mesh, k, cam_from_receiver, near_m);
   const int r = options.neighbourhood_radius_px;
   std::vector<bool> visible(points_in_receiver.size(), false);
@@ -372,7 +391,9 @@ std::vector<Eigen::Vector3d> ReadPly(const std::filesystem::path& path) {
   std::array<int, 3> xyz = {-1, -1, -1};
   for (size_t p = 0; p < vertex.properties.size(); ++p) {
     for (int c = 0; c < 3; ++c) {
-      if (vertex.properties[p].name == std::string(1, static_cast<char>('x' + c))) xyz[static_cast<size_t>(c)] = static_cast<int>(p);
+      if (vertex.properties[p].name == std::string(1, static_cast<char>('x' + c))) {
+        xyz[static_cast<size_t>(c)] = static_cast<int>(p);
+      }
     }
     if (vertex.properties[p].list) throw Error(where + ": list property in the vertex element is not supported");
   }

@@ -62,13 +62,14 @@ const GroupStats& Group(const ModelSummary& m, const std::string& name) {
 }
 
 TEST(PoseStatistics, ErrorIsEstimateMinusTruthWithWrappedAngles) {
-  const SixDof e = PoseError(MakePose(1.5, -2.0, 3.0, 179.0, 10.0, -179.0), MakePose(1.0, -1.0, 3.5, -179.0, 12.0, 179.0));
+  const SixDof e =
+      PoseError(MakePose(1.5, -2.0, 3.0, 179.0, 10.0, -179.0), MakePose(1.0, -1.0, 3.5, -179.0, 12.0, 179.0));
   EXPECT_DOUBLE_EQ(e[0], 0.5);
   EXPECT_DOUBLE_EQ(e[1], -1.0);
   EXPECT_DOUBLE_EQ(e[2], -0.5);
   EXPECT_DOUBLE_EQ(e[3], -2.0);  // 179 - (-179) = 358 -> -2
   EXPECT_DOUBLE_EQ(e[4], -2.0);
-  EXPECT_DOUBLE_EQ(e[5], 2.0);   // -179 - 179 = -358 -> 2
+  EXPECT_DOUBLE_EQ(e[5], 2.0);  // -179 - 179 = -358 -> 2
   EXPECT_DOUBLE_EQ(PoseError(MakePose(0, 0, 0, 90, 0, 0), MakePose(0, 0, 0, -90, 0, 0))[3], 180.0);  // (-180, 180]
   EXPECT_DOUBLE_EQ(PoseError(MakePose(0, 0, 0, -90, 0, 0), MakePose(0, 0, 0, 90, 0, 0))[3], 180.0);
 }
@@ -86,8 +87,8 @@ TEST(PoseStatistics, MeanAbsoluteAndRmsErrorByHand) {
   EXPECT_EQ(c.frames, 4u);
   EXPECT_EQ(c.ok, 3u);
   EXPECT_EQ(c.failed, 1u);
-  EXPECT_NEAR(c.mean_abs_error[0], 0.2, 1e-12);                                 // (0.1 + 0.2 + 0.3) / 3
-  EXPECT_NEAR(c.rms_error[0], std::sqrt((0.01 + 0.04 + 0.09) / 3.0), 1e-12);    // thesis eq. 4
+  EXPECT_NEAR(c.mean_abs_error[0], 0.2, 1e-12);                               // (0.1 + 0.2 + 0.3) / 3
+  EXPECT_NEAR(c.rms_error[0], std::sqrt((0.01 + 0.04 + 0.09) / 3.0), 1e-12);  // thesis eq. 4
   EXPECT_NEAR(c.mean_abs_error[3], 5.0 / 3.0, 1e-12);
   EXPECT_NEAR(c.rms_error[3], std::sqrt(9.0 / 3.0), 1e-12);
   EXPECT_EQ(c.mean_abs_error[1], 0.0);
@@ -95,7 +96,7 @@ TEST(PoseStatistics, MeanAbsoluteAndRmsErrorByHand) {
 
 TEST(PoseStatistics, GroupsByRegionAndRangeBin) {
   const SixDof zero;
-  const std::vector<FrameResult> frames = {OkFrame(0, 35.0, zero), OkFrame(1, 50.0, zero), OkFrame(2, 100.0, zero),
+  const std::vector<FrameResult> frames = {OkFrame(0, 35.0, zero),  OkFrame(1, 50.0, zero), OkFrame(2, 100.0, zero),
                                            OkFrame(3, 200.0, zero), OkFrame(4, 60.0, zero), OkFrame(5, 20.0, zero)};
   const ModelSummary m = SummarizeFrames("full", frames);
   std::vector<std::string> names;
@@ -229,8 +230,10 @@ TEST(PoseStatistics, MarkdownFollowsThesisTables) {
   const Summary summary{{SummarizeFrames("full", {OkFrame(0, 40, Dof(0.205, 0.106, 0.281, 0.539, 1.692, 1.075))}),
                          SummarizeFrames("shelled", {OkFrame(0, 40, Dof(0.142, 0.0458, 0.104, 0.381, 0.641, 0.529))})}};
   const std::string md = SummaryToMarkdown(summary);
-  EXPECT_NE(md.find("| Range | Model | X (m) | Y (m) | Z (m) | Roll (deg) | Pitch (deg) | Yaw (deg) |"), std::string::npos);
-  EXPECT_NE(md.find("| 20-60 m | Full Model | 0.205 | 0.106 | 0.281 | 0.539 | 1.692 | 1.075 | 1/1 |"), std::string::npos)
+  EXPECT_NE(md.find("| Range | Model | X (m) | Y (m) | Z (m) | Roll (deg) | Pitch (deg) | Yaw (deg) |"),
+            std::string::npos);
+  EXPECT_NE(md.find("| 20-60 m | Full Model | 0.205 | 0.106 | 0.281 | 0.539 | 1.692 | 1.075 | 1/1 |"),
+            std::string::npos)
       << md;
   EXPECT_NE(md.find("| | Shelled Model | 0.142 |"), std::string::npos) << md;
   EXPECT_NE(md.find("| | Difference (%) | 30.73 |"), std::string::npos) << md;  // (0.205 - 0.142) / 0.205

@@ -85,7 +85,8 @@ std::string Base64(const std::string& bytes) {
   std::string out;
   size_t i = 0;
   for (; i + 2 < bytes.size(); i += 3) {
-    const uint32_t v = (uint32_t(uint8_t(bytes[i])) << 16) | (uint32_t(uint8_t(bytes[i + 1])) << 8) | uint8_t(bytes[i + 2]);
+    const uint32_t v =
+        (uint32_t(uint8_t(bytes[i])) << 16) | (uint32_t(uint8_t(bytes[i + 1])) << 8) | uint8_t(bytes[i + 2]);
     for (int s = 18; s >= 0; s -= 6) out += table[(v >> s) & 63];
   }
   if (i + 1 == bytes.size()) {
@@ -112,14 +113,21 @@ std::pair<nlohmann::json, std::string> TriangleGltf() {
       {"asset", {{"version", "2.0"}}},
       {"scene", 0},
       {"scenes", {{{"nodes", {0}}}}},
-      {"nodes", {{{"translation", {1, 2, 3}}, {"rotation", {0, h, 0, h}}, {"children", {1}}},
-                 {{"scale", {2, 2, 2}}, {"mesh", 0}}}},
+      {"nodes",
+       {{{"translation", {1, 2, 3}}, {"rotation", {0, h, 0, h}}, {"children", {1}}},
+        {{"scale", {2, 2, 2}}, {"mesh", 0}}}},
       {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
       {"buffers", {{{"byteLength", bin.size()}}}},
-      {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
-                       {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}}},
+      {"bufferViews",
+       {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
+        {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}}},
       {"accessors",
-       {{{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}, {"min", {0, 0, 0}}, {"max", {1, 1, 1}}},
+       {{{"bufferView", 0},
+         {"componentType", 5126},
+         {"count", 3},
+         {"type", "VEC3"},
+         {"min", {0, 0, 0}},
+         {"max", {1, 1, 1}}},
         {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}}}},
   };
   return {j, bin};
@@ -375,15 +383,18 @@ TEST(ReferenceModel, ReadPlyRejectsBadFilesWithReasons) {
   expect_error("missing.ply", "", "missing.ply");
   expect_error("not.ply", "solid cube\n", "not a PLY file");
   expect_error("no_end.ply", "ply\nformat ascii 1.0\nelement vertex 1\n", "no end_header");
-  expect_error("no_z.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n1 2\n",
+  expect_error("no_z.ply",
+               "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n1 2\n",
                "lacks x, y or z");
   std::string truncated =
       "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
       "end_header\n";
   truncated += std::string(12, '\0');
   expect_error("truncated.ply", truncated, "truncated");
-  expect_error("bad_value.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-               "property float z\nend_header\n1 two 3\n", "malformed value");
+  expect_error("bad_value.ply",
+               "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+               "property float z\nend_header\n1 two 3\n",
+               "malformed value");
 }
 
 }  // namespace

@@ -46,8 +46,8 @@ struct IcpOptions {
   /// correspondence distance, before the update of an iteration).
   double relative_mse_tolerance = 1e-6;
   /// Converged when one update moves less than both of these.
-  double translation_tolerance_m = 1e-5;   ///< [m]
-  double rotation_tolerance_rad = 1e-5;    ///< [rad]
+  double translation_tolerance_m = 1e-5;  ///< [m]
+  double rotation_tolerance_rad = 1e-5;   ///< [rad]
   /// Pairs farther apart are ignored (outlier rejection). Default: infinity,
   /// every pair counts, as in the thesis's plain point-to-point ICP.
   double max_correspondence_distance_m = std::numeric_limits<double>::infinity();  ///< [m]
@@ -64,11 +64,11 @@ struct IcpOptions {
 
 struct IcpResult {
   Eigen::Isometry3d tanker_from_receiver = Eigen::Isometry3d::Identity();
-  bool converged = false;    ///< a tolerance was met before max_iterations
-  int iterations = 0;        ///< transform updates applied
-  size_t num_inliers = 0;    ///< pairs within max_correspondence_distance_m at the returned transform
-  double rmse_m = 0.0;       ///< RMS distance of those pairs at the returned transform [m]
-  double fitness = 0.0;      ///< num_inliers / number of query points (model or sensed, per direction)
+  bool converged = false;       ///< a tolerance was met before max_iterations
+  int iterations = 0;           ///< transform updates applied
+  size_t num_inliers = 0;       ///< pairs within max_correspondence_distance_m at the returned transform
+  double rmse_m = 0.0;          ///< RMS distance of those pairs at the returned transform [m]
+  double fitness = 0.0;         ///< num_inliers / number of query points (model or sensed, per direction)
   double initial_rmse_m = 0.0;  ///< same RMS at the initial transform [m]
 };
 
@@ -86,13 +86,13 @@ class KdTree3d {
   const std::vector<Eigen::Vector3d>& points() const;
   /// Index and squared distance of the nearest point (exact); the tree must not be empty.
   std::pair<size_t, double> Nearest(const Eigen::Vector3d& query) const;
-  /// The k nearest points (exact), nearest first: fills indices[0..n) and
-  /// squared_distances[0..n) and returns n = min(k, size()). On entry,
-  /// indices[0..num_seeds) may hold distinct point indices near the query
-  /// (e.g. the previous answer of a point that moved a little); they only
-  /// bound the search from the start and make it faster, never change it.
+  /// The k nearest points (exact) strictly nearer than sqrt(max_squared_distance),
+  /// nearest first: fills indices[0..n) and squared_distances[0..n) and
+  /// returns n <= k. On entry, indices[0..num_seeds) may hold point indices
+  /// near the query (e.g. the previous answer of a point that moved a little);
+  /// they only bound the search from the start and make it faster.
   size_t NearestK(const Eigen::Vector3d& query, size_t k, uint32_t* indices, double* squared_distances,
-                  size_t num_seeds = 0) const;
+                  size_t num_seeds = 0, double max_squared_distance = std::numeric_limits<double>::infinity()) const;
 
  private:
   struct Impl;

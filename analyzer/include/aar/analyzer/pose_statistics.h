@@ -53,15 +53,15 @@ struct FrameResult {
   /// "ok", or why the frame has no estimate (e.g. "too few sensed points").
   /// Commas and line breaks are replaced by ';' and ' ' when written.
   std::string status = "ok";
-  Pose truth;                   ///< true tanker_from_receiver
-  Pose estimate;                ///< estimated tanker_from_receiver (meaningful when ok)
-  SixDof error;                 ///< PoseError(estimate, truth) (meaningful when ok)
-  size_t sensed_points = 0;     ///< points of the sensed cloud given to ICP
-  int icp_iterations = 0;       ///< IcpResult::iterations
-  bool icp_converged = false;   ///< IcpResult::converged
-  double icp_rmse_m = 0.0;      ///< IcpResult::rmse_m [m]
-  size_t icp_inliers = 0;       ///< IcpResult::num_inliers
-  StageTimes times;             ///< stage timings [ms]
+  Pose truth;                  ///< true tanker_from_receiver
+  Pose estimate;               ///< estimated tanker_from_receiver (meaningful when ok)
+  SixDof error;                ///< PoseError(estimate, truth) (meaningful when ok)
+  size_t sensed_points = 0;    ///< points of the sensed cloud given to ICP
+  int icp_iterations = 0;      ///< IcpResult::iterations
+  bool icp_converged = false;  ///< IcpResult::converged
+  double icp_rmse_m = 0.0;     ///< IcpResult::rmse_m [m]
+  size_t icp_inliers = 0;      ///< IcpResult::num_inliers
+  StageTimes times;            ///< stage timings [ms]
 
   bool ok() const { return status == "ok"; }
 };
@@ -91,12 +91,12 @@ std::vector<FrameResult> MergeFrameResults(const std::vector<std::vector<FrameRe
 
 /// Statistics of one group of frames.
 struct GroupStats {
-  std::string group;        ///< "all", "A", "B", "C", "20-60" or "60-110"
-  size_t frames = 0;        ///< frames in the group
-  size_t ok = 0;            ///< frames with an estimate
-  size_t failed = 0;        ///< frames without
-  SixDof mean_abs_error;    ///< mean |error| over ok frames
-  SixDof rms_error;         ///< sqrt(sum error^2 / n) over ok frames (thesis eq. 4)
+  std::string group;                 ///< "all", "A", "B", "C", "20-60" or "60-110"
+  size_t frames = 0;                 ///< frames in the group
+  size_t ok = 0;                     ///< frames with an estimate
+  size_t failed = 0;                 ///< frames without
+  SixDof mean_abs_error;             ///< mean |error| over ok frames
+  SixDof rms_error;                  ///< sqrt(sum error^2 / n) over ok frames (thesis eq. 4)
   double sensed_points_mean = 0.0;   ///< over ok frames
   double icp_iterations_mean = 0.0;  ///< over ok frames
   size_t icp_converged = 0;          ///< ok frames whose ICP met a tolerance

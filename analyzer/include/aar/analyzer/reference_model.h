@@ -48,7 +48,7 @@ struct ReferenceModelOptions {
 };
 
 struct ReferenceModel {
-  std::string name;                               ///< "full" or "shelled"
+  std::string name;                                 ///< "full" or "shelled"
   std::vector<Eigen::Vector3d> points_in_receiver;  ///< receiver frame [m]
 };
 
