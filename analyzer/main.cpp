@@ -42,6 +42,9 @@ void AddRunFlags(CLI::App* cmd, RunFlags& f) {
   cmd->add_option("--icp-iterations", o.frame.icp.max_iterations, "ICP iterations at most")->capture_default_str();
   cmd->add_option("--max-correspondence", o.frame.icp.max_correspondence_distance_m,
                   "ICP pairs farther apart are ignored [m] (default: none, as in the thesis)");
+  cmd->add_option("--max-residual", o.frame.max_icp_rmse_m,
+                  "ICP residual allowance at zero range [m]; 3 sigma of the expected stereo depth noise is added")
+      ->capture_default_str();
   cmd->add_option("--disparity", f.disparity, "bm (StereoBM, thesis) or sgbm")->capture_default_str();
   cmd->add_option("--num-disparities", o.frame.disparity.num_disparities, "disparities searched")
       ->capture_default_str();

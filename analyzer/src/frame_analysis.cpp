@@ -8,6 +8,7 @@
 #include "aar/error.h"
 #include "aar/file_io.h"
 #include "aar/region.h"
+#include "aar/text.h"
 
 namespace aar {
 namespace {
@@ -49,6 +50,7 @@ void FrameAnalysisOptions::Check() const {
   icp.Check();
   if (reprojection.keep_one_in == 0) throw Error("reprojection keep_one_in must be at least 1");
   if (!(max_icp_rmse_m > 0)) throw Error("max_icp_rmse_m must be positive");
+  if (!(disparity_noise_px >= 0)) throw Error("disparity_noise_px must not be negative");
 }
 
 FrameAnalyzer::FrameAnalyzer(const StereoCalibration& calibration, const Eigen::Isometry3d& tanker_from_left,
@@ -56,6 +58,7 @@ FrameAnalyzer::FrameAnalyzer(const StereoCalibration& calibration, const Eigen::
                              const FrameAnalysisOptions& options)
     : calibration_(calibration),
       tanker_from_left_(tanker_from_left),
+      focal_times_baseline_px_m_(std::abs(calibration.Q.at<double>(2, 3) / calibration.Q.at<double>(3, 2))),
       rectifier_(calibration),
       registration_(std::move(model_points_in_receiver), options.icp),
       options_(options) {
@@ -118,9 +121,13 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
     r.icp_converged = icp.converged;
     r.icp_rmse_m = icp.rmse_m;
     r.icp_inliers = icp.num_inliers;
-    if (!icp.tanker_from_receiver.matrix().allFinite() || !(icp.rmse_m <= options_.max_icp_rmse_m)) {
+    const double range_m = (icp.tanker_from_receiver.translation() - tanker_from_left_.translation()).norm();
+    const double sigma_z = range_m * range_m * options_.disparity_noise_px / focal_times_baseline_px_m_;
+    const double limit_m = options_.max_icp_rmse_m + 3.0 * sigma_z;
+    if (!icp.tanker_from_receiver.matrix().allFinite() || !(icp.rmse_m <= limit_m)) {
       throw Error((dataset / sidecar.files.at("left").path).string() + ": ICP did not converge (residual " +
-                  std::to_string(icp.rmse_m) + " m)");
+                  FormatFixed(icp.rmse_m, 3) + " m, limit " + FormatFixed(limit_m, 3) + " m at " +
+                  FormatFixed(range_m, 1) + " m)");
     }
     r.estimate = PoseFromIsometry(icp.tanker_from_receiver);
     r.error = PoseError(r.estimate, r.truth);

@@ -37,9 +37,12 @@ struct FrameAnalysisOptions {
   }();
   IcpSeed seed = IcpSeed::kCentroid;
   size_t min_sensed_points = 30;   ///< fewer sensed points: the frame is not measured ("receiver out of view")
-  /// An ICP residual above this means registration failed (did not converge
-  /// to the receiver) and the frame is recorded as not measured [m].
-  double max_icp_rmse_m = 2.0;
+  /// Registration failed (ICP did not converge onto the receiver) when its
+  /// residual RMS exceeds max_icp_rmse_m + 3 sigma_z, where sigma_z =
+  /// r^2 disparity_noise_px / (f b) is the stereo depth noise expected at the
+  /// estimated range r (f b from Q); such a frame is recorded as not measured.
+  double max_icp_rmse_m = 2.0;        ///< residual allowance at zero range [m]
+  double disparity_noise_px = 0.1;    ///< disparity noise used for sigma_z [px] (measured BM RMS 0.12 px)
 
   /// Throws aar::Error naming the first invalid field.
   void Check() const;
@@ -63,6 +66,7 @@ class FrameAnalyzer {
  private:
   StereoCalibration calibration_;
   Eigen::Isometry3d tanker_from_left_;
+  double focal_times_baseline_px_m_;  // f b = Q(2,3) / Q(3,2)
   Rectifier rectifier_;
   IcpRegistration registration_;
   FrameAnalysisOptions options_;
