@@ -10,5 +10,6 @@ bash scripts/install-deps.sh
 bash scripts/build.sh
 build/renderer/aar-render calib "$dataset" --msaa 16
 build/renderer/aar-render render "$dataset" --msaa 16
-build/analyzer/aar-analyze run "$dataset" --model shelled --out "$dataset/analysis-shelled"
-cat "$dataset/analysis-shelled/summary.md"
+out="results/$(basename "$dataset")-shelled"
+build/analyzer/aar-analyze run "$dataset" --model shelled --out "$out"
+cat "$out/summary.md"
