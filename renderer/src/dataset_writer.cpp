@@ -1,5 +1,6 @@
 #include "aar/renderer/dataset_writer.h"
 
+#include <cstdio>
 #include <vector>
 
 #include "aar/dataset.h"
@@ -34,15 +35,23 @@ nlohmann::json RendererIdentity() {
 void OpenManifest(const std::filesystem::path& dataset, const nlohmann::json& header) {
   const std::filesystem::path path = dataset / kManifestName;
   nlohmann::json manifest = nlohmann::json::object();
+  nlohmann::json wanted = header;
   if (std::filesystem::exists(path)) {
     manifest = ReadManifest(dataset).json;
-    const std::string mismatch = FirstMismatch(header, manifest, "");
+    if (manifest.contains("renderer") && manifest.at("renderer") != header.at("renderer")) {
+      // Another build of the renderer (any commit changes the git hash): resume, keep the
+      // original identity in the manifest, and say that frames of two builds may be mixed.
+      std::fprintf(stderr, "aar-render: warning: %s was started by renderer %s, this is %s; continuing\n",
+                   dataset.c_str(), manifest.at("renderer").dump().c_str(), header.at("renderer").dump().c_str());
+      wanted["renderer"] = manifest.at("renderer");
+    }
+    const std::string mismatch = FirstMismatch(wanted, manifest, "");
     if (!mismatch.empty()) {
       throw Error(path.string() + ": the dataset was made with other settings (" + mismatch +
                   "); render into a new folder or repeat the original settings");
     }
   }
-  manifest.merge_patch(header);
+  manifest.merge_patch(wanted);
   if (!manifest.contains("files")) manifest["files"] = nlohmann::json::object();
   if (!manifest.contains("complete")) manifest["complete"] = false;
   WriteJsonFile(path, manifest);

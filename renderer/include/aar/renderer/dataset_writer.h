@@ -16,7 +16,8 @@ nlohmann::json RendererIdentity();
 /// Creates DATASET/manifest.json from `header`, or, when one exists, checks
 /// that every key of `header` that the existing manifest also has is equal
 /// (same inputs, device, MSAA, image size) and merges the new sections in.
-/// Throws aar::Error naming the first mismatching key otherwise.
+/// Throws aar::Error naming the first mismatching key otherwise. A different
+/// renderer build only warns (the manifest keeps the first build's identity).
 void OpenManifest(const std::filesystem::path& dataset, const nlohmann::json& header);
 
 /// Copies `source` into the dataset as `name` (atomically) unless an identical
