@@ -191,10 +191,6 @@ class ExperimentError(Exception):
     pass
 
 
-class RenderSettingsMismatch(Exception):
-    """aar-render refused to resume a dataset made with other settings (e.g. another build)."""
-
-
 # ---------------------------------------------------------------------------
 # Small helpers
 # ---------------------------------------------------------------------------
@@ -302,35 +298,18 @@ class Ctx:
                 del env[key]
         return env
 
-    def run(self, step, argv, tail_for_mismatch=False):
+    def run(self, step, argv):
         line = " ".join(shlex.quote(rel(a) if isinstance(a, Path) else str(a)) for a in argv)
         LOG(f"{self.name}: {step}\n    $ {line}")
         tool = Path(argv[0])
         self.binaries.setdefault(tool.name, set()).add(sha256_file(tool))
         t = time.monotonic()
-        tail = b""
-        if tail_for_mismatch:
-            # Pass stderr through (progress and ETA) and keep its end to recognise a refused resume.
-            proc = subprocess.Popen([str(a) for a in argv], cwd=ROOT, env=self.env(),
-                                    stdout=sys.stderr, stderr=subprocess.PIPE)
-            while True:
-                chunk = proc.stderr.read1(4096)
-                if not chunk:
-                    break
-                sys.stderr.buffer.write(chunk)
-                sys.stderr.buffer.flush()
-                tail = (tail + chunk)[-4096:]
-            returncode = proc.wait()
-        else:
-            returncode = subprocess.run([str(a) for a in argv], cwd=ROOT, env=self.env(),
-                                        stdout=sys.stderr, stderr=sys.stderr).returncode
+        returncode = subprocess.run([str(a) for a in argv], cwd=ROOT, env=self.env(),
+                                    stdout=sys.stderr, stderr=sys.stderr).returncode
         dt = time.monotonic() - t
         self.commands.append((step, line, dt))
         if returncode != 0:
-            message = f"{self.name}: step '{step}' failed with exit status {returncode}: {line}"
-            if tail_for_mismatch and b"made with other settings" in tail:
-                raise RenderSettingsMismatch(tail.decode(errors="replace").strip().splitlines()[-1])
-            raise ExperimentError(message)
+            raise ExperimentError(f"{self.name}: step '{step}' failed with exit status {returncode}: {line}")
         LOG(f"{self.name}: {step}: done in {dt:.1f} s")
         return dt
 
@@ -375,72 +354,21 @@ def wait_for_other_renders(ctx, dataset):
         time.sleep(10)
 
 
-def _needed_present(dataset, section, msaa, flight_path, selection):
-    """True when `dataset` already holds every pair this step needs, made from the same inputs.
-
-    Used only when aar-render refuses to resume a dataset made by another
-    renderer build (its manifest records the build's git hash): such a
-    dataset is reused as it is when its section has the requested MSAA level,
-    rig, receiver, flight path (for frames) and every needed sidecar with its
-    images. The analyzer verifies every image's SHA-256 when it reads it.
-    """
-    manifest_path = dataset / "manifest.json"
-    if not manifest_path.is_file():
-        return False
-    m = read_json(manifest_path)
-    sec = m.get(section) or {}
-    if sec.get("msaa", {}).get("level") != msaa:
-        return False
-    inputs = m.get("inputs", {})
-    checks = [("rig", ROOT / "scenes" / "rig.json")]
-    if section == "frames":
-        checks += [("flight_path", ROOT / flight_path), ("receiver_model", ROOT / "scenes" / "c12.glb")]
-    for key, path in checks:
-        if inputs.get(key, {}).get("sha256") != sha256_file(path):
-            return False
-    count = sec.get("count") or 0
-    indices = range(count)
-    if selection is not None:
-        k, n = (int(v) for v in selection[1].split("/"))
-        indices = [i for i in indices if i % n == k]
-    folder = "frames" if section == "frames" else "calib"
-    for i in indices:
-        sc_path = dataset / folder / f"{i:06d}.json"
-        if not sc_path.is_file():
-            return False
-        sc = read_json(sc_path)
-        for entry in sc.get("files", {}).values():
-            if not (dataset / entry["path"]).is_file():
-                return False
-    return count > 0
-
-
-def _render(ctx, step, argv, dataset, section, msaa, flight_path=None, selection=None):
+def _render(ctx, step, argv, dataset):
+    """Renders into `dataset`; aar-render resumes, skipping verified pairs."""
     wait_for_other_renders(ctx, dataset)
-    try:
-        ctx.run(step, argv, tail_for_mismatch=True)
-    except RenderSettingsMismatch as e:
-        if not _needed_present(dataset, section, msaa, flight_path, selection):
-            raise ExperimentError(f"{ctx.name}: {e}; the pairs this step needs are not all there, so it cannot "
-                                  f"be reused: remove {rel(dataset)} (or pick another --datasets) and run again")
-        made_by = read_json(dataset / "manifest.json").get("renderer", {}).get("git", "?")
-        LOG(f"{ctx.name}: {rel(dataset)} was made by renderer build {made_by}, which aar-render will not "
-            "resume with this build; every pair this step needs is present with the requested settings, so "
-            "it is reused as it is")
-        step_, line, dt = ctx.commands[-1]
-        ctx.commands[-1] = (step_ + f" (refused: dataset made by renderer build {made_by}; "
-                            "all needed pairs present, reused as is)", line, dt)
+    ctx.run(step, argv)
 
 
 def render_calib(ctx, dataset, msaa):
     _render(ctx, f"render calibration boards into {dataset.name} (x{msaa})",
-            [ctx.render, "calib", dataset, "--msaa", msaa], dataset, "calib", msaa)
+            [ctx.render, "calib", dataset, "--msaa", msaa], dataset)
 
 
 def render_frames(ctx, dataset, msaa, flight_path, selection):
     argv = [ctx.render, "render", dataset, "--msaa", msaa, "--flight-path", flight_path]
     _render(ctx, f"render {flight_path} into {dataset.name} (x{msaa}, {selection_text(selection)})",
-            argv + selection_args(selection), dataset, "frames", msaa, flight_path, selection)
+            argv + selection_args(selection), dataset)
 
 
 def calibrate(ctx, dataset, out):
