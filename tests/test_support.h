@@ -10,12 +10,15 @@
 
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
 namespace aar::test {
 
-/// A fresh empty folder under the build tree, removed at destruction.
+/// A fresh empty folder under the build tree, removed at destruction; named
+/// after the running test unless a name is given.
 class TempDir {
  public:
-  explicit TempDir(const std::string& name) {
+  explicit TempDir(const std::string& name = ::testing::UnitTest::GetInstance()->current_test_info()->name()) {
     path_ = std::filesystem::path(AAR_BINARY_DIR) / "test-tmp" / (name + "-" + std::to_string(::getpid()));
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);

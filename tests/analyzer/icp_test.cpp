@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include "test_meshes.h"
 #include "aar/analyzer/icp.h"
 #include "aar/analyzer/mesh.h"
 #include "aar/analyzer/reference_model.h"
@@ -21,26 +22,14 @@
 namespace aar {
 namespace {
 
+using test::AddBox;
+
 constexpr double kPi = 3.14159265358979323846;
 
 double ThreadCpuMs() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
-}
-
-// Adds a closed axis-aligned box (12 triangles, outward winding).
-void AddBox(TriangleMesh& mesh, const Eigen::Vector3d& centre, const Eigen::Vector3d& half) {
-  const int base = static_cast<int>(mesh.vertices.size());
-  for (int i = 0; i < 8; ++i) {
-    mesh.vertices.push_back(centre + Eigen::Vector3d((i & 1) ? half.x() : -half.x(), (i & 2) ? half.y() : -half.y(),
-                                                     (i & 4) ? half.z() : -half.z()));
-  }
-  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (const auto& q : faces) {
-    mesh.triangles.emplace_back(base + q[0], base + q[1], base + q[2]);
-    mesh.triangles.emplace_back(base + q[0], base + q[2], base + q[3]);
-  }
 }
 
 // A small receiver-like shape: fuselage, wing, tailplane, fin (metres).

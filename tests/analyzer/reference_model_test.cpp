@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "../test_support.h"
+#include "test_meshes.h"
 #include "aar/analyzer/mesh.h"
 #include "aar/analyzer/reference_model.h"
 #include "aar/error.h"
@@ -21,37 +23,10 @@
 namespace aar {
 namespace {
 
+using test::AddBox;
+using test::TempDir;
+
 namespace fs = std::filesystem;
-
-// A fresh folder per test, removed at the end.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            ("aar_reference_model_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-void AddBox(TriangleMesh& mesh, const Eigen::Vector3d& centre, const Eigen::Vector3d& half) {
-  const int base = static_cast<int>(mesh.vertices.size());
-  for (int i = 0; i < 8; ++i) {
-    mesh.vertices.push_back(centre + Eigen::Vector3d((i & 1) ? half.x() : -half.x(), (i & 2) ? half.y() : -half.y(),
-                                                     (i & 4) ? half.z() : -half.z()));
-  }
-  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (const auto& q : faces) {
-    mesh.triangles.emplace_back(base + q[0], base + q[1], base + q[2]);
-    mesh.triangles.emplace_back(base + q[0], base + q[2], base + q[3]);
-  }
-}
 
 // tanker_from_camera of an OpenCV camera at `eye` looking at `target`, image
 // up towards tanker +z.

@@ -24,8 +24,6 @@ using test::RunAnalyze;
 using test::SharedDatasets;
 using test::TempDir;
 
-#define ASSERT_DATASETS() ASSERT_TRUE(SharedDatasets().error.empty()) << SharedDatasets().error
-
 bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // A fatal error: non-zero exit, one line naming `names` (all of them), no output folder.

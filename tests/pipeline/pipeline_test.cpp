@@ -24,8 +24,6 @@ using test::RunAnalyze;
 using test::SharedDatasets;
 using test::TempDir;
 
-#define ASSERT_DATASETS() ASSERT_TRUE(SharedDatasets().error.empty()) << SharedDatasets().error
-
 // Runs `aar-analyze run` on DATASET into OUT; success is a zero exit.
 ::testing::AssertionResult AnalyzeRun(const fs::path& dataset, const fs::path& out, const std::string& flags) {
   const test::CommandResult r =
