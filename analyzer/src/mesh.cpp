@@ -9,7 +9,7 @@
 #include <tiny_gltf.h>
 
 #include "aar/error.h"
-#include "aar/pose.h"
+#include "aar/gltf_scene.h"
 
 namespace aar {
 namespace {
@@ -18,29 +18,6 @@ namespace {
 // and independent of the image codecs tinygltf was built with.
 bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
   return true;
-}
-
-// gltf_from_node of one node: its matrix, or T * R * S (glTF 2.0 section 5.25).
-Eigen::Matrix4d LocalTransform(const tinygltf::Node& node, const std::string& where) {
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  if (node.matrix.size() == 16) {
-    for (int c = 0; c < 4; ++c) {
-      for (int r = 0; r < 4; ++r) m(r, c) = node.matrix[static_cast<size_t>(c * 4 + r)];  // column-major
-    }
-    return m;
-  }
-  if (!node.matrix.empty()) throw Error(where + ": node matrix must have 16 elements");
-  Eigen::Affine3d t = Eigen::Affine3d::Identity();
-  if (node.translation.size() == 3) {
-    t.translate(Eigen::Vector3d(node.translation[0], node.translation[1], node.translation[2]));
-  }
-  if (node.rotation.size() == 4) {  // glTF quaternion order is x, y, z, w
-    const Eigen::Quaterniond q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
-    if (q.norm() < 1e-12) throw Error(where + ": node rotation is a zero quaternion");
-    t.rotate(q.normalized());
-  }
-  if (node.scale.size() == 3) t.scale(Eigen::Vector3d(node.scale[0], node.scale[1], node.scale[2]));
-  return t.matrix();
 }
 
 // Bounds-checked view of an accessor's elements inside its buffer.
@@ -163,28 +140,6 @@ void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& pr
   }
 }
 
-void AppendNode(const tinygltf::Model& model, int node_index, const Eigen::Matrix4d& gltf_from_parent,
-                const std::string& where, int depth, TriangleMesh& mesh) {
-  if (node_index < 0 || static_cast<size_t>(node_index) >= model.nodes.size()) {
-    throw Error(where + ": node " + std::to_string(node_index) + " does not exist");
-  }
-  if (depth > 256) throw Error(where + ": node hierarchy is cyclic or deeper than 256");
-  const tinygltf::Node& node = model.nodes[static_cast<size_t>(node_index)];
-  const Eigen::Matrix4d gltf_from_node = gltf_from_parent * LocalTransform(node, where);
-  if (node.mesh >= 0) {
-    if (static_cast<size_t>(node.mesh) >= model.meshes.size()) {
-      throw Error(where + ": mesh " + std::to_string(node.mesh) + " does not exist");
-    }
-    Eigen::Matrix4d body_from_gltf = Eigen::Matrix4d::Identity();
-    body_from_gltf.topLeftCorner<3, 3>() = BodyFromGltf();
-    const Eigen::Matrix4d body_from_node = body_from_gltf * gltf_from_node;
-    for (const tinygltf::Primitive& primitive : model.meshes[static_cast<size_t>(node.mesh)].primitives) {
-      AppendPrimitive(model, primitive, body_from_node, where, mesh);
-    }
-  }
-  for (const int child : node.children) AppendNode(model, child, gltf_from_node, where, depth + 1, mesh);
-}
-
 bool HasGlbMagic(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   char magic[4] = {};
@@ -212,23 +167,11 @@ TriangleMesh LoadReceiverMesh(const std::filesystem::path& path) {
   }
 
   TriangleMesh mesh;
-  std::vector<int> roots;
-  if (!model.scenes.empty()) {
-    const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
-    if (static_cast<size_t>(scene) >= model.scenes.size()) throw Error(where + ": default scene does not exist");
-    roots = model.scenes[static_cast<size_t>(scene)].nodes;
-  } else {  // no scenes: every node that is nobody's child
-    std::vector<bool> is_child(model.nodes.size(), false);
-    for (const tinygltf::Node& node : model.nodes) {
-      for (const int child : node.children) {
-        if (child >= 0 && static_cast<size_t>(child) < is_child.size()) is_child[static_cast<size_t>(child)] = true;
-      }
+  ForEachMeshNode(model, where, [&](const tinygltf::Mesh& gltf_mesh, const Eigen::Matrix4d& body_from_node) {
+    for (const tinygltf::Primitive& primitive : gltf_mesh.primitives) {
+      AppendPrimitive(model, primitive, body_from_node, where, mesh);
     }
-    for (size_t i = 0; i < model.nodes.size(); ++i) {
-      if (!is_child[i]) roots.push_back(static_cast<int>(i));
-    }
-  }
-  for (const int root : roots) AppendNode(model, root, Eigen::Matrix4d::Identity(), where, 0, mesh);
+  });
   if (mesh.triangles.empty()) throw Error(where + ": the model holds no triangles");
   return mesh;
 }

@@ -10,26 +10,10 @@
 #include <Eigen/Geometry>
 
 #include "aar/error.h"
-#include "aar/pose.h"
+#include "aar/gltf_scene.h"
 
 namespace aar {
 namespace {
-
-Eigen::Matrix4d NodeLocalMatrix(const tinygltf::Node& node) {
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  if (node.matrix.size() == 16) {
-    for (int c = 0; c < 4; ++c)
-      for (int r = 0; r < 4; ++r) m(r, c) = node.matrix[c * 4 + r];  // glTF is column-major
-    return m;
-  }
-  Eigen::Affine3d t = Eigen::Affine3d::Identity();
-  if (node.translation.size() == 3) t.translate(Eigen::Vector3d(node.translation[0], node.translation[1], node.translation[2]));
-  if (node.rotation.size() == 4) {
-    t.rotate(Eigen::Quaterniond(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]).normalized());
-  }
-  if (node.scale.size() == 3) t.scale(Eigen::Vector3d(node.scale[0], node.scale[1], node.scale[2]));
-  return t.matrix();
-}
 
 // Reads accessor element i as up to 4 floats (float or normalized integer components).
 class AccessorReader {
@@ -165,22 +149,6 @@ void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& pr
   out.primitives.push_back(std::move(p));
 }
 
-void VisitNode(const tinygltf::Model& model, int node_index, const Eigen::Matrix4d& parent, const std::string& where,
-               int depth, std::vector<int>& texture_of_image, SceneModel& out) {
-  if (node_index < 0 || node_index >= static_cast<int>(model.nodes.size()) || depth > 64) {
-    throw Error(where + ": bad node hierarchy");
-  }
-  const tinygltf::Node& node = model.nodes[node_index];
-  const Eigen::Matrix4d m = parent * NodeLocalMatrix(node);
-  if (node.mesh >= 0) {
-    if (node.mesh >= static_cast<int>(model.meshes.size())) throw Error(where + ": bad mesh index");
-    for (const tinygltf::Primitive& prim : model.meshes[node.mesh].primitives) {
-      AppendPrimitive(model, prim, m, where, texture_of_image, out);
-    }
-  }
-  for (int child : node.children) VisitNode(model, child, m, where, depth + 1, texture_of_image, out);
-}
-
 }  // namespace
 
 float SrgbToLinear(float s) { return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f); }
@@ -255,11 +223,11 @@ SceneModel LoadSceneModel(const std::filesystem::path& path) {
   SceneModel out;
   out.path = path;
   std::vector<int> texture_of_image(model.images.size(), -1);
-  Eigen::Matrix4d body_from_gltf = Eigen::Matrix4d::Identity();
-  body_from_gltf.topLeftCorner<3, 3>() = BodyFromGltf();
-  const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
-  if (scene >= static_cast<int>(model.scenes.size())) throw Error(where + ": no scene");
-  for (int node : model.scenes[scene].nodes) VisitNode(model, node, body_from_gltf, where, 0, texture_of_image, out);
+  ForEachMeshNode(model, where, [&](const tinygltf::Mesh& mesh, const Eigen::Matrix4d& body_from_node) {
+    for (const tinygltf::Primitive& prim : mesh.primitives) {
+      AppendPrimitive(model, prim, body_from_node, where, texture_of_image, out);
+    }
+  });
   if (out.primitives.empty()) throw Error(where + ": model has no triangles");
   return out;
 }
