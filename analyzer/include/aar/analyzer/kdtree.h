@@ -1,0 +1,54 @@
+#pragma once
+// Exact nearest-neighbour search over a fixed 3-D point set (nanoflann
+// KD-tree, L2), with seeded k-nearest queries for warm starts.
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace aar {
+
+/// 3-D KD-tree (nanoflann, L2) over a point set it owns. Queries are const
+/// and may run from several threads at once.
+class KdTree3d {
+ public:
+  explicit KdTree3d(std::vector<Eigen::Vector3d> points, int leaf_size = 10);
+  ~KdTree3d();
+  KdTree3d(KdTree3d&&) noexcept;
+  KdTree3d& operator=(KdTree3d&&) noexcept;
+  KdTree3d(const KdTree3d&) = delete;
+  KdTree3d& operator=(const KdTree3d&) = delete;
+
+  const std::vector<Eigen::Vector3d>& points() const;
+  /// Index and squared distance of the nearest point (exact); the tree must not be empty.
+  std::pair<size_t, double> Nearest(const Eigen::Vector3d& query) const;
+  /// The k nearest points (exact) strictly nearer than sqrt(max_squared_distance),
+  /// nearest first: fills indices[0..n) and squared_distances[0..n) and
+  /// returns n <= k. On entry, indices[0..num_seeds) may hold point indices
+  /// near the query (e.g. the previous answer of a point that moved a little);
+  /// they only bound the search from the start and make it faster.
+  size_t NearestK(const Eigen::Vector3d& query, size_t k, uint32_t* indices, double* squared_distances,
+                  size_t num_seeds = 0, double max_squared_distance = std::numeric_limits<double>::infinity()) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// |a - b|^2 summed in nanoflann's order (L2_Simple_Adaptor::evalMetric), so
+/// distances computed with it and inside the tree are bitwise equal.
+inline double SquaredDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  double result = 0.0;
+  for (Eigen::Index i = 0; i < 3; ++i) {
+    const double diff = a[i] - b[i];
+    result += diff * diff;
+  }
+  return result;
+}
+
+}  // namespace aar

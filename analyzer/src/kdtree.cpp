@@ -1,0 +1,106 @@
+#include "aar/analyzer/kdtree.h"
+
+#include <algorithm>
+#include <iterator>
+
+#include <nanoflann.hpp>
+
+#include "aar/error.h"
+
+namespace aar {
+
+namespace {
+
+struct PointsAdaptor {
+  const std::vector<Eigen::Vector3d>* points = nullptr;
+  size_t kdtree_get_point_count() const { return points->size(); }
+  double kdtree_get_pt(size_t index, size_t dim) const { return (*points)[index][static_cast<Eigen::Index>(dim)]; }
+  template <class BoundingBox>
+  bool kdtree_get_bbox(BoundingBox&) const {
+    return false;  // let nanoflann compute it
+  }
+};
+
+// k-nearest result set (nanoflann's RESULTSET interface) that can be seeded
+// with candidate points before the search, so that their distances bound the
+// search from the first node, and that ignores points at or beyond a radius.
+// Points already held are not added twice (a seed met again in the tree).
+class BoundedKnn {
+ public:
+  BoundedKnn(size_t capacity, uint32_t* indices, double* squared, double max_squared)
+      : capacity_(capacity), indices_(indices), squared_(squared), max_squared_(max_squared) {}
+  size_t size() const { return count_; }
+  bool full() const { return count_ == capacity_; }
+  double worstDist() const { return count_ < capacity_ ? max_squared_ : squared_[capacity_ - 1]; }
+  bool addPoint(double squared, uint32_t index) {
+    if (!(squared < worstDist())) return true;
+    for (size_t i = 0; i < count_; ++i) {
+      if (indices_[i] == index) return true;
+    }
+    size_t i = count_ < capacity_ ? count_++ : capacity_ - 1;
+    for (; i > 0 && squared_[i - 1] > squared; --i) {  // insertion keeps earlier equal distances first
+      squared_[i] = squared_[i - 1];
+      indices_[i] = indices_[i - 1];
+    }
+    squared_[i] = squared;
+    indices_[i] = index;
+    return true;  // keep searching
+  }
+
+ private:
+  size_t capacity_;
+  uint32_t* indices_;
+  double* squared_;
+  double max_squared_;
+  size_t count_ = 0;
+};
+
+using NanoflannTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
+                                                          PointsAdaptor, 3, uint32_t>;
+
+}  // namespace
+
+struct KdTree3d::Impl {
+  std::vector<Eigen::Vector3d> points;
+  PointsAdaptor adaptor;
+  std::unique_ptr<NanoflannTree> tree;
+};
+
+KdTree3d::KdTree3d(std::vector<Eigen::Vector3d> points, int leaf_size) : impl_(std::make_unique<Impl>()) {
+  if (points.size() > static_cast<size_t>(UINT32_MAX)) throw Error("KdTree3d: too many points");
+  impl_->points = std::move(points);
+  impl_->adaptor.points = &impl_->points;  // stable: Impl lives on the heap
+  impl_->tree = std::make_unique<NanoflannTree>(
+      3, impl_->adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(static_cast<size_t>(std::max(1, leaf_size))));
+}
+
+KdTree3d::~KdTree3d() = default;
+KdTree3d::KdTree3d(KdTree3d&&) noexcept = default;
+KdTree3d& KdTree3d::operator=(KdTree3d&&) noexcept = default;
+
+const std::vector<Eigen::Vector3d>& KdTree3d::points() const { return impl_->points; }
+
+std::pair<size_t, double> KdTree3d::Nearest(const Eigen::Vector3d& query) const {
+  if (impl_->points.empty()) throw Error("KdTree3d: nearest-neighbour query on an empty tree");
+  uint32_t index = 0;
+  double squared = 0.0;
+  NearestK(query, 1, &index, &squared);
+  return {index, squared};
+}
+
+size_t KdTree3d::NearestK(const Eigen::Vector3d& query, size_t k, uint32_t* indices, double* squared_distances,
+                          size_t num_seeds, double max_squared_distance) const {
+  if (impl_->points.empty()) throw Error("KdTree3d: nearest-neighbour query on an empty tree");
+  if (k == 0) return 0;
+  uint32_t seeds[64];
+  const size_t n = std::min({num_seeds, k, std::size(seeds)});
+  std::copy(indices, indices + n, seeds);
+  BoundedKnn result(k, indices, squared_distances, max_squared_distance);
+  for (size_t i = 0; i < n; ++i) {
+    if (seeds[i] < impl_->points.size()) result.addPoint(SquaredDistance(query, impl_->points[seeds[i]]), seeds[i]);
+  }
+  impl_->tree->findNeighbors(result, query.data(), nanoflann::SearchParams());
+  return result.size();
+}
+
+}  // namespace aar
