@@ -70,111 +70,56 @@ BINS = ("20-60", "60-110")
 MSAA_LEVELS = (1, 4, 8, 16, 32)
 
 # ---------------------------------------------------------------------------
-# The thesis's numbers, typed from Parsons (2017), chapter IV and Appendix B.
-# Component order: X (m), Y (m), Z (m), Roll, Pitch, Yaw (deg). None = not
-# reported. "diff" rows are the thesis's printed "Difference (%)" rows.
-# Nothing in this block is ever used as one of OUR numbers.
+# The thesis's numbers: experiments/thesis_tables.json, typed from Parsons
+# (2017), chapter IV and Appendices A and B, each number with its table, row
+# and column. Component order: X (m), Y (m), Z (m), Roll, Pitch, Yaw (deg).
+# None = not reported. "diff" rows are the thesis's printed "Difference (%)"
+# rows. Nothing in THESIS is ever used as one of OUR numbers.
 # ---------------------------------------------------------------------------
-THESIS = {
-    # Table 1: mean absolute 6DOF error, ICP characterization (30 iterations).
-    "table1": {
-        "20-60": {"full": (0.205, 0.106, 0.281, 0.539, 1.6922, 1.075),
-                  "shelled": (0.142, 0.0458, 0.104, 0.381, 0.641, 0.529),
-                  "diff": (30.64, 57.15, 63.03, 29.33, 62.10, 50.75)},
-        "60-110": {"full": (0.658, 0.238, 0.365, 2.966, 7.854, 3.390),
-                   "shelled": (0.532, 0.182, 0.230, 1.668, 2.827, 1.871),
-                   "diff": (19.24, 23.58, 36.87, 43.75, 64.00, 44.79)},
-    },
-    # Table 2: RMS 6DOF error, ICP characterization.
-    "table2": {
-        "20-60": {"full": (0.261, 0.122, 0.291, 0.771, 2.335, 1.339),
-                  "shelled": (0.188, 0.056, 0.117, 0.517, 0.850, 0.663)},
-        "60-110": {"full": (0.976, 0.306, 0.478, 4.256, 9.033, 4.342),
-                   "shelled": (0.780, 0.251, 0.336, 3.094, 3.850, 2.840)},
-    },
-    # Table 3: ICP execution time (s), mean and standard deviation.
-    "table3": {
-        "20-60": {"full": (1.1305, 0.3855), "shelled": (0.1386, 0.0137)},
-        "60-110": {"full": (0.4590, 0.2981), "shelled": (0.1008, 0.0175)},
-    },
-    # Table 4: mean absolute 6DOF error, CONOPS flight path (region A: position only).
-    "table4": {
-        "A": {"full": (0.842, 0.437, 1.357, None, None, None),
-              "shelled": (0.762, 0.315, 1.352, None, None, None),
-              "diff": (9.45, 27.92, 0.35, None, None, None)},
-        "B": {"full": (0.144, 0.196, 0.303, 1.089, 1.372, 1.376),
-              "shelled": (0.115, 0.065, 0.097, 0.365, 0.471, 0.526),
-              "diff": (20.40, 66.88, 68.19, 66.45, 65.65, 61.78)},
-        "C": {"full": (0.100, 0.112, 0.324, 0.399, 0.677, 0.715),
-              "shelled": (0.064, 0.028, 0.065, 0.112, 0.161, 0.163),
-              "diff": (36.11, 75.04, 79.88, 71.83, 76.30, 77.14)},
-    },
-    # Table 5: RMS 6DOF error, CONOPS flight path (region A: position only).
-    "table5": {
-        "A": {"full": (1.111, 0.606, 1.877, None, None, None),
-              "shelled": (1.053, 0.484, 1.876, None, None, None)},
-        "B": {"full": (0.216, 0.213, 0.331, 1.397, 1.840, 1.716),
-              "shelled": (0.162, 0.085, 0.122, 0.503, 0.754, 0.677)},
-        "C": {"full": (0.111, 0.118, 0.325, 0.502, 0.773, 0.842),
-              "shelled": (0.069, 0.032, 0.067, 0.135, 0.188, 0.203)},
-    },
-    # Table 6: calibration error (pixels) per MSAA level (10 board poses).
-    "table6": {
-        "rms": {1: 0.243865, 4: 0.243687, 8: 0.242856, 16: 0.124402, 32: 0.123115},
-        "epipolar": {1: 0.145751, 4: 0.147311, 8: 0.146923, 16: 0.053891, 32: 0.053862},
-    },
-    # Table 7: element-wise percent error of Q against the ideal Q; only the
-    # non-zero elements (row, column) are listed, every other element is 0.
-    "table7": {
-        1: {(0, 3): 1.615, (1, 3): 0.083, (2, 3): 0.120, (3, 2): 0.525},
-        16: {(0, 3): 0.129, (1, 3): 0.001, (2, 3): 0.091, (3, 2): 0.274},
-    },
-    # Tables 8-11: CONOPS path, shelled model, mean absolute error per region
-    # for "MSAA" (imagery and calibration x16), "MSAA Calib" (imagery without
-    # MSAA, x16 calibration) and "No MSAA".
-    "mean_abs": {
-        "msaa": {"A": (0.656, 0.314, 1.125, 3.938, 3.780, 3.343),
-                 "B": (0.113, 0.066, 0.100, 0.378, 0.477, 0.541),
-                 "C": (0.061, 0.029, 0.063, 0.123, 0.153, 0.186)},
-        "calib": {"A": (1.055, 0.529, 2.170, 5.820, 4.859, 5.055),
-                  "B": (0.124, 0.065, 0.116, 0.355, 0.551, 0.484),
-                  "C": (0.040, 0.017, 0.038, 0.121, 0.142, 0.158)},
-        "none": {"A": (1.297, 0.754, 2.202, 5.548, 5.933, 5.215),
-                 "B": (0.156, 0.348, 0.114, 0.544, 0.554, 0.815),
-                 "C": (0.037, 0.200, 0.064, 0.300, 0.166, 0.499)},
-    },
-    # Table 8: Difference (%) = (No MSAA - MSAA Calib) / No MSAA.
-    "table8_diff": {"A": (18.66, 29.91, 1.46, -4.92, 18.10, 3.06),
-                    "B": (20.44, 81.28, -2.49, 34.69, 0.41, 40.63),
-                    "C": (-7.98, 91.63, 40.13, 59.68, 14.10, 68.27)},
-    # Table 9: Difference (%) = (MSAA Calib - MSAA) / MSAA Calib.
-    "table9_diff": {"A": (37.84, 40.56, 48.16, 32.34, 22.21, 33.87),
-                    "B": (9.06, -0.72, 13.68, -6.40, 13.45, -11.88),
-                    "C": (-51.41, -74.83, -66.09, -2.19, -7.82, -17.61)},
-    # Table 10 (Appendix B): Difference (%) = (No MSAA - MSAA) / No MSAA.
-    "table10_diff": {"A": (49.439, 58.342, 48.911, 29.014, 36.288, 35.895),
-                     "B": (27.649, 81.141, 11.532, 30.510, 13.802, 33.581),
-                     "C": (-63.489, 85.364, 0.557, 58.799, 7.376, 62.681)},
-    # Table 11 (Appendix B): RMS error. Its "MSAA" rows repeat Table 9's mean
-    # absolute values digit for digit (apparently copied); typed as printed.
-    "table11": {
-        "msaa": {"A": (0.656, 0.314, 1.125, 3.938, 3.780, 3.343),
-                 "B": (0.113, 0.066, 0.100, 0.378, 0.477, 0.541),
-                 "C": (0.061, 0.029, 0.063, 0.123, 0.153, 0.186)},
-        "calib": {"A": (1.499, 0.803, 3.116, 9.509, 7.312, 8.325),
-                  "B": (0.175, 0.090, 0.176, 0.468, 0.985, 0.644),
-                  "C": (0.047, 0.020, 0.042, 0.149, 0.168, 0.201)},
-        "none": {"A": (1.721, 0.917, 3.102, 8.984, 9.183, 8.188),
-                 "B": (0.204, 0.357, 0.158, 0.657, 1.012, 0.950),
-                 "C": (0.045, 0.201, 0.067, 0.314, 0.192, 0.518)},
-    },
-    # Appendix A (text, Figures 33-34): standard deviation of 10 estimations.
-    "appendix_a": {
-        "position_std_m_max": 0.05,          # "at or below 5 centimeters" (one outlier ~150 m)
-        "position_std_m_below_50m": 0.025,   # "less then 2.5 centimeters ... closer than 50 meters"
-        "orientation_std_deg_max": 0.4,      # "no standard deviations greater then 0.4 degrees"
-    },
-}
+THESIS_TABLES = Path(__file__).resolve().parent / "thesis_tables.json"
+
+
+def _json_key(key):
+    """Row and column keys as the reports index them: [i, j] becomes (i, j); strings and ints stay."""
+    return tuple(key) if isinstance(key, list) else key
+
+
+def load_thesis(path=THESIS_TABLES):
+    """{table: nested rows} from thesis_tables.json.
+
+    A row is nested under its `index` keys, in order. Its value: `value` as
+    is; else `values`, as a tuple in column order when the columns are names
+    (x_m, ..., mean_s, ...), or as {column: value} when they are keys (MSAA
+    levels, Q elements).
+    """
+    with open(path) as f:
+        tables = json.load(f)["tables"]
+    thesis = {}
+    for name, table in tables.items():
+        nested = thesis.setdefault(name, {})
+        columns = table.get("columns")
+        for row in table["rows"]:
+            keys = [_json_key(row[k]) for k in table["index"]]
+            if "value" in row:
+                value = row["value"]
+            else:
+                if len(row["values"]) != len(columns):
+                    raise ValueError(f"{path}: {name}, row {keys}: {len(row['values'])} values for "
+                                     f"{len(columns)} columns")
+                if all(isinstance(c, str) for c in columns):
+                    value = tuple(row["values"])
+                else:
+                    value = {_json_key(c): v for c, v in zip(columns, row["values"])}
+            d = nested
+            for k in keys[:-1]:
+                d = d.setdefault(k, {})
+            if keys[-1] in d:
+                raise ValueError(f"{path}: {name}: row {keys} appears twice")
+            d[keys[-1]] = value
+    return thesis
+
+
+THESIS = load_thesis()
 
 # Frame selections. None = every frame of the flight path. ("shard", "K/N")
 # = frames i with i % N == K, spread over the whole path.
