@@ -6,7 +6,7 @@
   report            report.md: tables, ours beside the thesis's, commands, software and machine
   plots             the PNG figures (matplotlib)
   registry          the experiments, one module each, registered by name:
-    characterization  thesis Experiment 1
+    characterization  thesis Experiment 1 (with shelled_vs_full, the skeleton it shares with conops)
     conops            thesis Experiment 2
     msaa              thesis Experiment 3
     determinism       thesis Appendix A

@@ -5,36 +5,23 @@ Tables 1-3, Figures 15-19: flightpaths/characterization.csv (558 positions,
 """
 
 from . import plots
-from .outputs import THESIS_PAIRING, group_counts, group_stats, ok_rows, pairing_of, read_frames, read_json, sidecar
+from .outputs import ok_rows, read_frames, sidecar
 from .registry import register
-from .report import (COMPARISON_HEADERS, Report, commands_section, comparison_rows, error_plots, finish, fmt,
-                     mean_abs, pct_diff, ratio, software_and_machine)
-from .runner import analyze, render_calib, render_frames, selection_text
+from .report import Report, conclude, fmt, mean_abs, pct_diff, ratio
+from .runner import selection_text
+from .shelled_vs_full import both_pairings, model_error_plots, model_tables, render_and_analyze
 from .thesis import BINS, COMPONENT_HEADERS, COMPONENTS, THESIS
 
 
-def char_tables(rep, summaries, note):
+def _tables(rep, summaries, note):
     """Tables 1-3 (thesis layout) from {model: summary.json}."""
-    def stats(kind):
-        return {b: {"Full Model": group_stats(summaries["full"], "full", b, kind),
-                    "Shelled Model": group_stats(summaries["shelled"], "shelled", b, kind)} for b in BINS}
+    model_tables(rep, summaries, note, BINS, lambda b: f"{b} m",
+                 (("Table 1: mean absolute 6DOF error", "mean_abs_error", "table1"),
+                  ("Table 2: RMS 6DOF error", "rms_error", "table2")))
+    _table3(rep, summaries, note)
 
-    counts = {b: {"Full Model": group_counts(summaries["full"], "full", b),
-                  "Shelled Model": group_counts(summaries["shelled"], "shelled", b)} for b in BINS}
-    models = ("Full Model", "Shelled Model")
 
-    def thesis_tab(tab):
-        return {b: {"Full Model": THESIS[tab][b]["full"], "Shelled Model": THESIS[tab][b]["shelled"]} for b in BINS}
-
-    rep.h(f"Table 1: mean absolute 6DOF error{note}", 3)
-    rep.table(COMPARISON_HEADERS, comparison_rows(
-        BINS, models, stats("mean_abs_error"), thesis_tab("table1"),
-        diff=("Full Model", "Shelled Model", {b: THESIS["table1"][b]["diff"] for b in BINS}),
-        counts=counts, group_label=lambda b: f"{b} m"))
-    rep.h(f"Table 2: RMS 6DOF error{note}", 3)
-    rep.table(COMPARISON_HEADERS, comparison_rows(
-        BINS, models, stats("rms_error"), thesis_tab("table2"), counts=counts, group_label=lambda b: f"{b} m"))
-
+def _table3(rep, summaries, note):
     rep.h(f"Table 3: ICP execution time{note} (machine-dependent)", 3)
     rep.p("From `summary.json` `timing.<model>.<bin>` (`icp_ms_mean`, `icp_ms_std`: sample standard deviation), "
           "converted to seconds. Ours: one core of the machine below, C++ with a KD-tree; the thesis's: its own "
@@ -61,57 +48,25 @@ def char_tables(rep, summaries, note):
                "ours/thesis"], rows)
 
 
-@register("characterization", order=1,
-          help="thesis Experiment 1: shelled vs full model at 558 positions (Tables 1-3, Figures 15-19)")
-def run(ctx):
-    ds = ctx.dataset("char-x16")
-    sel = ctx.sel["char"]
-    render_calib(ctx, ds, 16)
-    render_frames(ctx, ds, 16, "flightpaths/characterization.csv", sel)
-    runs = {m: analyze(ctx, f"char-x16-{m}", ds, m, sel) for m in ("shelled", "full")}
-    runs_tp = {m: analyze(ctx, f"char-x16-{m}-model-to-sensed", ds, m, sel, extra=THESIS_PAIRING)
-               for m in ("shelled", "full")}
-    summaries = {m: read_json(runs[m] / "summary.json") for m in runs}
-    summaries_tp = {m: read_json(runs_tp[m] / "summary.json") for m in runs_tp}
-    frames = {m: read_frames(runs[m]) for m in runs}
-    pairing = pairing_of(runs["shelled"])
-
-    rep = Report(ctx, "Experiment 1: ICP characterization, shelled versus full reference model")
-    rep.p("Thesis section 4.1 (Tables 1-3, Figures 15-19). The receiver is rendered at every position of "
-          f"`flightpaths/characterization.csv` (558 positions, 10-110 m, zero attitude) with MSAA x16; "
-          f"analyzed: {selection_text(sel)}. Both reference models, at most 30 ICP iterations, ICP seeded at the "
-          "sensed cloud's centroid with zero attitude (the thesis's seeding), calibration from the dataset's own "
-          "x16 board images. Our numbers come from each run's `summary.json` (statistics) and `frames.csv` "
-          "(plots); the thesis's are typed from its tables. Difference (%) = 100 (full - shelled) / full, "
-          "positive when the shelled model is better (the thesis's definition). Frames the analyzer could not "
-          "measure (its ICP failure test, docs/analysis.md) are left out of its statistics; \"Frames ok/all\" "
-          "counts them.")
-    rep.p(f"Two ICP pairing directions are reported: the analyzer's default (`{pairing}`, from `run.json`), and "
-          "`model_to_sensed` (every reference-model point paired with its nearest sensed point), under which "
-          "model surfaces the cameras do not see pull the estimate, which is the effect the thesis's shelled "
-          "model removes (section 4.1). The thesis does not name its pairing direction.")
-
-    rep.h(f"With the analyzer's default ICP pairing (`{pairing}`)")
-    char_tables(rep, summaries, f" ({pairing})")
-    rep.h(f"With the model-to-sensed ICP pairing (`{pairing_of(runs_tp['shelled'])}`)")
-    char_tables(rep, summaries_tp, f" ({pairing_of(runs_tp['shelled'])})")
-
-    rep.h(f"Registration details per range bin (ours, {pairing})")
+def _registration_details(rep, res):
+    rep.h(f"Registration details per range bin (ours, {res.pairing})")
     rows = []
     for b in BINS:
         for m in ("full", "shelled"):
-            g = summaries[m]["models"][m][b]
+            g = res.summaries[m]["models"][m][b]
             rows.append([f"{b} m", m, f"{g['ok']}/{g['frames']}", fmt(g.get("sensed_points_mean"), 0),
                          fmt(g.get("icp_iterations_mean"), 1), str(g.get("icp_converged")),
                          fmt(g.get("icp_rmse_m_mean"), 3)])
     rep.table(["Range", "Model", "Frames ok/all", "Sensed points (mean)", "ICP iterations (mean)",
                "Converged before 30", "ICP RMSE (m, mean)"], rows)
 
-    # Below 20 m (no thesis bin) and partial visibility, from frames.csv and the sidecars.
+
+def _partial_visibility(rep, res):
+    """Below 20 m (no thesis bin) and partial visibility, from frames.csv and the sidecars."""
     rep.h("Partial visibility (positions closer than the box fits the view)")
     vis = []
-    for r in ok_rows(frames["shelled"]):
-        sc = sidecar(ds, r["frame"])
+    for r in ok_rows(res.frames["shelled"]):
+        sc = sidecar(res.dataset, r["frame"])
         vis.append((r["frame"], r["range_m"], min(sc["in_view"]["left"], sc["in_view"]["right"])))
     partial = [v for v in vis if v[2] < 1.0]
     if partial:
@@ -120,8 +75,8 @@ def run(ctx):
         pf = {v[0] for v in partial}
         rows = []
         for m in ("full", "shelled"):
-            part = [r for r in ok_rows(frames[m]) if r["frame"] in pf]
-            full_view = [r for r in ok_rows(frames[m]) if r["frame"] not in pf and r["range_m"] < 60.0]
+            part = [r for r in ok_rows(res.frames[m]) if r["frame"] in pf]
+            full_view = [r for r in ok_rows(res.frames[m]) if r["frame"] not in pf and r["range_m"] < 60.0]
             for label, sub in (("partly out of view", part), ("fully in view, < 60 m", full_view)):
                 rows.append([m, label, str(len(sub))] + [fmt(mean_abs([r["err_" + c] for r in sub]), 3)
                                                          for c in COMPONENTS])
@@ -134,16 +89,15 @@ def run(ctx):
         rep.p(f"None of the {len(vis)} analyzed positions has the receiver partly outside an image "
               "(sidecar `in_view` = 1 in both cameras).")
 
-    # Plots (Figures 15-19).
+
+def _figures(ctx, rep, res):
+    """Figures 15-19."""
     rep.h("Figures")
-    for m, figs in (("full", (15, 17)), ("shelled", (16, 18))):
-        for path, cap in error_plots(ctx, frames[m], f"char_{m}", f"{m} reference model, {pairing} pairing, "
-                                     "characterization",
-                                     figs, "bins"):
-            rep.image(path, cap)
-    for stem, rdirs in (("char_icp_time", runs), ("char_icp_time_model_to_sensed", runs_tp)):
+    model_error_plots(ctx, rep, res, "char", (("full", (15, 17)), ("shelled", (16, 18))), "characterization",
+                      "bins")
+    for stem, rdirs, p_name in (("char_icp_time", res.runs, res.pairing),
+                                ("char_icp_time_model_to_sensed", res.runs_tp, res.pairing_tp)):
         path = ctx.out / f"{stem}.png"
-        p_name = pairing_of(rdirs["shelled"])
         series = []
         for m in ("full", "shelled"):
             ok = ok_rows(read_frames(rdirs[m]))
@@ -153,6 +107,28 @@ def run(ctx):
                                "ICP time (s)", series, guides="bins", zero_line=False)
         rep.image(path, f"ICP execution time versus range, both models, {p_name} pairing (cf. thesis Figure 19)")
 
-    commands_section(ctx, rep)
-    software_and_machine(ctx, rep, [runs["shelled"], runs["full"], runs_tp["shelled"], runs_tp["full"]])
-    return finish(ctx, rep)
+
+@register("characterization", order=1,
+          help="thesis Experiment 1: shelled vs full model at 558 positions (Tables 1-3, Figures 15-19)")
+def run(ctx):
+    res = render_and_analyze(ctx, "char-x16", "flightpaths/characterization.csv", ctx.sel["char"])
+
+    rep = Report(ctx, "Experiment 1: ICP characterization, shelled versus full reference model")
+    rep.p("Thesis section 4.1 (Tables 1-3, Figures 15-19). The receiver is rendered at every position of "
+          f"`flightpaths/characterization.csv` (558 positions, 10-110 m, zero attitude) with MSAA x16; "
+          f"analyzed: {selection_text(res.selection)}. Both reference models, at most 30 ICP iterations, ICP "
+          "seeded at the sensed cloud's centroid with zero attitude (the thesis's seeding), calibration from the "
+          "dataset's own x16 board images. Our numbers come from each run's `summary.json` (statistics) and "
+          "`frames.csv` (plots); the thesis's are typed from its tables. Difference (%) = 100 (full - shelled) / "
+          "full, positive when the shelled model is better (the thesis's definition). Frames the analyzer could "
+          "not measure (its ICP failure test, docs/analysis.md) are left out of its statistics; \"Frames ok/all\" "
+          "counts them.")
+    rep.p(f"Two ICP pairing directions are reported: the analyzer's default (`{res.pairing}`, from `run.json`), "
+          "and `model_to_sensed` (every reference-model point paired with its nearest sensed point), under which "
+          "model surfaces the cameras do not see pull the estimate, which is the effect the thesis's shelled "
+          "model removes (section 4.1). The thesis does not name its pairing direction.")
+    both_pairings(rep, res, _tables)
+    _registration_details(rep, res)
+    _partial_visibility(rep, res)
+    _figures(ctx, rep, res)
+    return conclude(ctx, rep, res.run_dirs())

@@ -9,7 +9,7 @@ import statistics
 from . import plots
 from .outputs import frames_csv_without_timing, pairing_of, read_frames, summary_without_timing
 from .registry import register
-from .report import Report, commands_section, finish, software_and_machine
+from .report import Report, conclude
 from .runner import LOG, analyze, rel, render_calib, render_frames, selection_text, sha256_bytes, sha256_file
 from .thesis import COMPONENTS, REGIONS, THESIS
 
@@ -113,9 +113,7 @@ def run(ctx):
         rep.image(path, f"Standard deviation of {n_runs} estimations of {kind} per frame versus range "
                         f"(cf. thesis Figure {fig})")
 
-    commands_section(ctx, rep)
-    software_and_machine(ctx, rep, run_dirs[:1])
-    path = finish(ctx, rep)
+    path = conclude(ctx, rep, run_dirs[:1])
     if not all(verdict.values()):
         LOG("determinism: runs differ (reported, not an error)")
     return path

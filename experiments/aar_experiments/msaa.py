@@ -6,10 +6,9 @@ calibration anti-aliased, and without. Figures 25-32.
 """
 
 from . import plots
-from .outputs import ok_rows, pairing_of, read_frames, read_json, region_counts, region_table_data
+from .outputs import group_table, group_table_counts, ok_rows, pairing_of, read_frames, read_json
 from .registry import register
-from .report import (COMPARISON_HEADERS, Report, commands_section, comparison_rows, error_plots, finish, fmt,
-                     ratio, software_and_machine)
+from .report import COMPARISON_HEADERS, Report, comparison_rows, conclude, error_plots, fmt, ratio
 from .runner import analyze, calibrate, render_calib, render_frames, rel, selection_text, sha256_file
 from .thesis import MSAA_LEVELS, REGION_RANGES, REGIONS, THESIS
 
@@ -129,9 +128,9 @@ def run(ctx):
           "here (unlike Table 4). Difference (%) as in the thesis: Table 8 = 100 (No MSAA - MSAA Calib) / No MSAA, "
           "Table 9 = 100 (MSAA Calib - MSAA) / MSAA Calib, Table 10 = 100 (No MSAA - MSAA) / No MSAA.")
     km = {labels[k]: (summaries[k], "shelled") for k in ("msaa", "calib", "none")}
-    mean = region_table_data(summaries, km, "mean_abs_error")
-    rms = region_table_data(summaries, km, "rms_error")
-    counts = region_counts(km)
+    mean = group_table(km, REGIONS, "mean_abs_error")
+    rms = group_table(km, REGIONS, "rms_error")
+    counts = group_table_counts(km, REGIONS)
     th_mean = {g: {labels[k]: THESIS["mean_abs"][k][g] for k in labels} for g in REGIONS}
     th_rms = {g: {labels[k]: THESIS["table11"][k][g] for k in labels} for g in REGIONS}
     for title, pair, tdiff in (
@@ -176,6 +175,4 @@ def run(ctx):
     rep.image(path, "Y (lateral) error versus range for no MSAA, MSAA calibration only and MSAA "
                     "(cf. thesis Figure 30, which shows the Y error as point clouds)")
 
-    commands_section(ctx, rep)
-    software_and_machine(ctx, rep, [runs["none"], runs["calib"], runs["msaa"]])
-    return finish(ctx, rep)
+    return conclude(ctx, rep, [runs["none"], runs["calib"], runs["msaa"]])

@@ -7,7 +7,7 @@ experiments and plots know the file formats only through this module.
 import csv
 import json
 
-from .thesis import COMPONENTS, REGIONS
+from .thesis import COMPONENTS
 
 
 def read_json(path):
@@ -32,13 +32,6 @@ def ok_rows(rows):
     return [r for r in rows if r["status"] == "ok"]
 
 
-# The thesis's shelled-model argument (section 4.1: the full model's surfaces
-# that the cameras never see hurt the registration) holds for ICP that pairs
-# every MODEL point with its nearest sensed point. Experiments 1 and 2 are
-# therefore run with the analyzer's default pairing and again with that one.
-THESIS_PAIRING = ("--correspondence", "model_to_sensed")
-
-
 def pairing_of(run_dir):
     """ICP pairing direction a run used, from its run.json."""
     return read_json(run_dir / "run.json").get("options", {}).get("icp", {}).get("correspondence", "?")
@@ -58,6 +51,16 @@ def group_counts(summary, model, group):
     return g["ok"], g["frames"]
 
 
+def group_table(key_model, groups, kind):
+    """{group: {label: tuple}} from {label: (summary, model)}: one statistic of several runs per group."""
+    return {g: {label: group_stats(s, m, g, kind) for label, (s, m) in key_model.items()} for g in groups}
+
+
+def group_table_counts(key_model, groups):
+    """{group: {label: (ok, all) frames}} from {label: (summary, model)}."""
+    return {g: {label: group_counts(s, m, g) for label, (s, m) in key_model.items()} for g in groups}
+
+
 def sidecar(dataset, frame):
     return read_json(dataset / "frames" / f"{frame:06d}.json")
 
@@ -75,13 +78,3 @@ def frames_csv_without_timing(path):
         for line in f.read().splitlines():
             out.append(",".join(line.split(",")[:28]))
     return ("\n".join(out) + "\n").encode()
-
-
-def region_table_data(summaries, key_model, kind):
-    """{region: {label: tuple}} from {label: (summary, model)}."""
-    return {g: {label: group_stats(s, m, g, kind) for label, (s, m) in key_model.items()} for g in REGIONS}
-
-
-def region_counts(key_model):
-    return {g: {label: group_counts(s, m, g) for label, (s, m) in key_model.items()} for g in REGIONS}
-

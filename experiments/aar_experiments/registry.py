@@ -5,7 +5,7 @@ A new experiment is one new module with
     @register("name", order=5, help="thesis ...: what it reproduces")
     def run(ctx):           # ctx: runner.Ctx
         ...
-        return report.finish(ctx, rep)
+        return report.conclude(ctx, rep, run_dirs)
 
 `experiments()` imports every module of the package, so nothing else needs
 editing: the command line gets the subcommand, and `all` runs it in `order`.

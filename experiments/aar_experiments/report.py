@@ -1,8 +1,8 @@
 """Writing report.md: text, tables, our numbers beside the thesis's, figures, provenance.
 
-Every experiment builds a Report and ends with commands_section(),
-software_and_machine() (the datasets, the software and the machine) and
-finish(), which writes report.md and checks that it and every figure exist.
+Every experiment builds a Report and ends with conclude(), which adds the
+commands run, the datasets, the software and the machine, writes report.md
+and checks that it and every figure exist.
 """
 
 import math
@@ -212,3 +212,10 @@ def finish(ctx, rep):
     LOG(f"{ctx.name}: report {rel(path)} ({len(ctx.pngs)} plots)")
     return path
 
+
+def conclude(ctx, rep, run_dirs):
+    """The end of every report: commands, datasets (with the manifest hashes `run_dirs` recorded),
+    software and machine; writes it and returns its path."""
+    commands_section(ctx, rep)
+    software_and_machine(ctx, rep, run_dirs)
+    return finish(ctx, rep)
