@@ -30,8 +30,8 @@ class Experiment:
 def register(name, order, help):
     """Decorator: registers run(ctx) as experiment `name`."""
     def decorate(run):
-        if name in _REGISTERED:
-            raise ValueError(f"experiment {name!r} registered twice")
+        if name in _REGISTERED or name == "all":
+            raise ValueError(f"experiment {name!r} registered twice (or named `all`, the subcommand for every one)")
         _REGISTERED[name] = Experiment(name, run, help, order)
         return run
     return decorate
