@@ -1,4 +1,4 @@
-"""Plots for experiments/aar_experiment.py (matplotlib, Agg backend).
+"""Plots for the experiments (matplotlib, Agg backend).
 
 Every function writes one PNG and returns its path. Inputs are plain lists, so
 this module knows nothing about the analyzer's file formats. PNGs carry no

@@ -1,0 +1,14 @@
+"""The thesis's experiments (Parsons 2017, chapter IV and Appendix A), run by experiments/aar_experiment.py.
+
+  thesis            the thesis's layout and numbers (experiments/thesis_tables.json)
+  runner            running aar-render and aar-analyze, the analysis cache, provenance
+  outputs           reading the tools' CSV and JSON outputs
+  report            report.md: tables, ours beside the thesis's, commands, software and machine
+  plots             the PNG figures (matplotlib)
+  registry          the experiments, one module each, registered by name:
+    characterization  thesis Experiment 1 (with shelled_vs_full, the skeleton it shares with conops)
+    conops            thesis Experiment 2
+    msaa              thesis Experiment 3
+    determinism       thesis Appendix A
+  cli               the command line: a subcommand per registered experiment, and `all`
+"""

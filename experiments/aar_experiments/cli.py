@@ -1,0 +1,131 @@
+"""The command line: one subcommand per registered experiment, and `all`."""
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from .registry import experiments
+from .report import fmt, md_table
+from .runner import LOG, ROOT, Ctx, ExperimentError, analyzer_version, rel
+
+_COUNTS = ("no", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten")
+
+
+def _in_turn(names):
+    """"a, b and c" for `all`'s description."""
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+
+
+def parse_args(argv, registered):
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--out", help="report folder (default reports/<experiment>; for `all`: reports/, one "
+                                      "sub-folder per experiment)")
+    common.add_argument("--datasets", default="datasets",
+                        help="where datasets are rendered and reused (default: datasets/)")
+    common.add_argument("--build", default="build", help="build folder with renderer/aar-render and "
+                                                         "analyzer/aar-analyze (default: build/)")
+    common.add_argument("--no-snapshot", action="store_true",
+                        help="run the tools in --build itself instead of copies made at the start "
+                             "(OUT/tools/), which keep a rebuild during the run out of the results")
+    common.add_argument("--quick", action="store_true",
+                        help="a few frames per region or range bin (smoke test, a few minutes for `all`)")
+    parser = argparse.ArgumentParser(
+        prog="aar_experiment.py",
+        description="Reproduce Parsons (2017) chapter IV and Appendix A with aar-render and aar-analyze; "
+                    "writes report.md, PNG plots and provenance per experiment.",
+        epilog="Relative paths are taken from the current directory; commands run in the repository root. "
+               "Exit status is non-zero when any step fails or an expected output is missing.")
+    sub = parser.add_subparsers(dest="experiment", required=True, metavar="EXPERIMENT")
+    for name, experiment in registered.items():
+        sub.add_parser(name, parents=[common], help=experiment.help, description=experiment.help)
+    count = _COUNTS[len(registered)] if len(registered) < len(_COUNTS) else str(len(registered))
+    sub.add_parser("all", parents=[common], help=f"the {count} experiments in turn",
+                   description=f"{_in_turn(list(registered))} in turn")
+    return parser.parse_args(argv)
+
+
+def _snapshot_tools(args, out_root):
+    """Copies the two executables into OUT/tools/, so that a rebuild of the build folder during a long
+    run cannot mix binaries within one report; returns False when a copy does not run."""
+    snap = out_root / "tools"
+    for tool in ("renderer/aar-render", "analyzer/aar-analyze"):
+        (snap / tool).parent.mkdir(parents=True, exist_ok=True)
+        tmp = snap / (tool + ".tmp")
+        shutil.copy2(Path(args.build) / tool, tmp)
+        os.replace(tmp, snap / tool)
+        if subprocess.run([str(snap / tool), "--help"], capture_output=True).returncode != 0:
+            print(f"aar_experiment: the copy of {Path(args.build) / tool} does not run "
+                  "(was it being linked?); try again", file=sys.stderr)
+            return False
+    LOG(f"tools: copied {rel(Path(args.build) / 'renderer/aar-render')} and "
+        f"{rel(Path(args.build) / 'analyzer/aar-analyze')} to {rel(snap)} (--no-snapshot runs them in place)")
+    args.tools_origin = rel(args.build)
+    args.build = str(snap)
+    return True
+
+
+def _write_index(args, out_root, timings, total):
+    lines = ["# AAR experiments (Parsons 2017, chapter IV and Appendix A)", ""]
+    if args.quick:
+        lines += ["**QUICK MODE**: smoke-test frame selections, not a reproduction.", ""]
+    lines += [f"Command: `experiments/aar_experiment.py all{' --quick' if args.quick else ''}`", "",
+              md_table(["Experiment", "Report", "Wall time (s; machine-dependent)"],
+                       [[n, f"[{n}/report.md]({n}/report.md)", fmt(dt, 1)] for n, dt in timings]
+                       + [["total", "", fmt(total, 1)]]), ""]
+    index = out_root / "index.md"
+    index.write_text("\n".join(lines))
+    return index
+
+
+def main(argv=None):
+    registered = experiments()
+    args = parse_args(argv if argv is not None else sys.argv[1:], registered)
+    # Resolve user paths against the caller's directory before anything else.
+    args.datasets = str(Path(args.datasets).resolve())
+    args.build = str(Path(args.build).resolve())
+    for tool in ("renderer/aar-render", "analyzer/aar-analyze"):
+        if not os.access(Path(args.build) / tool, os.X_OK):
+            print(f"aar_experiment: {Path(args.build) / tool} not found or not executable (build first: "
+                  "bash scripts/build.sh)", file=sys.stderr)
+            return 2
+    names = list(registered) if args.experiment == "all" else [args.experiment]
+    if args.experiment == "all":
+        out_root = Path(args.out).resolve() if args.out else ROOT / "reports"
+        outs = {n: out_root / n for n in names}
+    else:
+        out_root = Path(args.out).resolve() if args.out else ROOT / "reports" / names[0]
+        outs = {names[0]: out_root}
+    Path(args.datasets).mkdir(parents=True, exist_ok=True)
+    analyzer_version()
+    if not args.no_snapshot and not _snapshot_tools(args, out_root):
+        return 2
+    memo = {}
+    written = []
+    timings = []
+    t_all = time.monotonic()
+    try:
+        for name in names:
+            outs[name].mkdir(parents=True, exist_ok=True)
+            for old in outs[name].glob("*.png"):
+                old.unlink()
+            ctx = Ctx(name, args, outs[name], memo)
+            LOG(f"{name}: start ({'quick' if args.quick else 'full'}; report in {rel(outs[name])}, "
+                f"datasets in {rel(args.datasets)})")
+            t = time.monotonic()
+            written.append(registered[name].run(ctx))
+            timings.append((name, time.monotonic() - t))
+            LOG(f"{name}: finished in {timings[-1][1]:.1f} s")
+    except ExperimentError as e:
+        LOG(f"FAILED: {e}")
+        return 1
+    total = time.monotonic() - t_all
+    if args.experiment == "all":
+        written.append(_write_index(args, out_root, timings, total))
+    LOG(f"all done in {total:.1f} s")
+    for path in written:
+        print(rel(path))
+    return 0
