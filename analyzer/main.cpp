@@ -1,78 +1,159 @@
 // aar-analyze: offline analysis of AAR stereo datasets (thesis sections
-// 3.3-3.7). A thin table of subcommands; the work lives in aar_analyzer.
+// 3.3-3.7). A table of subcommands, each parsing its flags, validating and
+// calling aar_analyzer, where the work lives.
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <opencv2/core.hpp>
 
 #include "aar/analyzer/analysis_run.h"
 #include "aar/analyzer/mesh.h"
+#include "aar/analyzer/ply.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
 
 namespace {
 
-struct RunFlags {
-  aar::AnalysisRunOptions options;
-  std::string calibration;
-  std::string receiver;
-  std::string frames;
-  std::string shard;
-  std::string seed = "centroid";
-  std::string correspondence = aar::ToString(aar::FrameAnalysisOptions{}.icp.correspondence);
-  std::string disparity = "bm";
+std::string DatasetName(const std::filesystem::path& dataset) {
+  const std::filesystem::path clean = dataset.lexically_normal();
+  return (clean.has_filename() ? clean.filename() : clean.parent_path().filename()).string();
+}
+
+// Reference-model flags shared by `reference`, `run` and `bench`.
+struct ReferenceFlags {
+  std::string shell = "strict";
+  std::optional<std::string> cameras;
+  std::optional<double> tolerance_m;
+  size_t points = aar::ReferenceModelOptions{}.num_points;
+
+  void Add(CLI::App* cmd) {
+    cmd->add_option("--shell", shell, "shelling rule: strict (both cameras, own pixel, 1 cm, >= 15 deg from grazing) "
+                                      "or loose (the first version's: either camera, 3x3 window, 5 cm)")
+        ->capture_default_str();
+    cmd->add_option("--shell-cameras", cameras, "cameras that must see a shell point: left, either or both");
+    cmd->add_option("--shell-tolerance", tolerance_m, "shell depth-test tolerance [m]");
+    cmd->add_option("--points", points, "full-model points")->capture_default_str();
+  }
+  aar::ReferenceModelOptions Resolve() const {
+    aar::ReferenceModelOptions o;
+    if (shell == "loose") {
+      o = aar::ReferenceModelOptions::Loose();
+    } else if (shell != "strict") {
+      throw aar::Error("--shell '" + shell + "': expected strict or loose");
+    }
+    o.num_points = points;
+    if (cameras) o.cameras = aar::ParseShellCameras(*cameras);
+    if (tolerance_m) o.depth_tolerance_m = *tolerance_m;
+    o.Check();
+    return o;
+  }
 };
 
-void AddRunFlags(CLI::App* cmd, RunFlags& f) {
-  aar::AnalysisRunOptions& o = f.options;
-  cmd->add_option("dataset", o.dataset, "dataset folder")->required();
-  cmd->add_option("--model", o.reference.model, "reference model: full or shelled")->capture_default_str();
-  cmd->add_option("--calibration", f.calibration,
-                  "OpenCV YAML calibration to use (default: calibrate from DATASET/calib first)");
-  cmd->add_option("--receiver", f.receiver, "receiver glTF (default: DATASET/receiver.glb)");
-  cmd->add_option("--frames", f.frames, "half-open range a:b of frame indices");
-  cmd->add_option("--shard", f.shard, "analyze frames i with i % N == K (K/N); defaults to the Slurm array variables");
-  cmd->add_option("--seed", f.seed, "ICP seed: centroid (thesis) or previous (last frame's estimate)")
-      ->capture_default_str();
-  cmd->add_option("--correspondence", f.correspondence, "ICP pairing: sensed_to_model or model_to_sensed")
-      ->capture_default_str();
-  cmd->add_option("--icp-iterations", o.frame.icp.max_iterations, "ICP iterations at most")->capture_default_str();
-  cmd->add_option("--max-correspondence", o.frame.icp.max_correspondence_distance_m,
-                  "ICP pairs farther apart are ignored [m] (default: none, as in the thesis)");
-  cmd->add_option("--max-residual", o.frame.max_icp_rmse_m,
-                  "ICP residual allowance at zero range [m]; 3 sigma of the expected stereo depth noise is added")
-      ->capture_default_str();
-  cmd->add_option("--disparity", f.disparity, "bm (StereoBM, thesis) or sgbm")->capture_default_str();
-  cmd->add_option("--num-disparities", o.frame.disparity.num_disparities, "disparities searched")
-      ->capture_default_str();
-  cmd->add_option("--block-size", o.frame.disparity.block_size, "matching block size [px]")->capture_default_str();
-  cmd->add_option("--disparity-offset", o.frame.reprojection.disparity_offset_px,
-                  "subtracted from every disparity before re-projection [px] (0 = thesis)")
-      ->capture_default_str();
-  cmd->add_option("--keep-one-in", o.frame.reprojection.keep_one_in, "keep one re-projected point in N")
-      ->capture_default_str();
-  cmd->add_option("--points", o.reference.options.num_points, "full-model points")->capture_default_str();
-  cmd->add_flag("--no-progress", [&f](int64_t) { f.options.progress = false; }, "quiet stderr");
-}
+// Flags of `run` and `bench`. Values a preset sets are optional: given, they
+// override the preset.
+struct RunFlags {
+  aar::AnalysisRunOptions options;
+  ReferenceFlags reference;
+  std::string preset = "default";
+  std::string calibration, receiver, frames, shard, disparity = "bm";
+  std::optional<std::string> seed, registration, correspondence, pairing;
+  std::optional<int> icp_iterations, num_disparities, block_size;
+  std::optional<double> max_correspondence_m, disparity_offset_px, disparity_noise_px;
+  std::optional<size_t> keep_one_in, target_points;
+  std::optional<bool> halo, subpixel, rounding, widen;
+  bool truth_cloud = false;
 
-void Resolve(RunFlags& f) {
-  aar::AnalysisRunOptions& o = f.options;
-  if (!f.calibration.empty()) o.calibration = f.calibration;
-  if (!f.receiver.empty()) o.receiver_model = f.receiver;
-  o.selection = aar::ParseFrameSelection(f.frames, f.shard);
-  o.frame.seed = aar::ParseIcpSeed(f.seed);
-  o.frame.icp.correspondence = aar::ParseIcpCorrespondence(f.correspondence);
-  if (f.disparity == "bm") {
-    o.frame.disparity.algorithm = aar::DisparityAlgorithm::kBlockMatching;
-  } else if (f.disparity == "sgbm") {
-    o.frame.disparity.algorithm = aar::DisparityAlgorithm::kSemiGlobal;
-  } else {
-    throw aar::Error("--disparity '" + f.disparity + "': expected bm or sgbm");
+  void Add(CLI::App* cmd) {
+    aar::AnalysisRunOptions& o = options;
+    cmd->add_option("dataset", o.dataset, "dataset folder")->required();
+    cmd->add_option("--preset", preset, "pipeline: default (halo removal, BM rounding correction, "
+                                        "robust noise-weighted point-to-plane ICP) or thesis (Parsons 2017)")
+        ->capture_default_str();
+    cmd->add_option("--model", o.reference.model, "reference model: full or shelled")->capture_default_str();
+    reference.Add(cmd);
+    cmd->add_option("--calibration", calibration,
+                    "OpenCV YAML calibration to use (default: calibrate from DATASET/calib first)");
+    cmd->add_option("--receiver", receiver, "receiver glTF (default: DATASET/receiver.glb)");
+    cmd->add_option("--frames", frames, "half-open range a:b of frame indices");
+    cmd->add_option("--shard", shard, "analyze frames i with i % N == K (K/N); defaults to the Slurm array variables");
+    cmd->add_option("--seed", seed, "ICP seed: centroid (thesis) or previous (last frame's estimate)");
+    cmd->add_option("--registration", registration, "point_to_plane (default preset) or point_to_point (thesis)");
+    cmd->add_option("--correspondence", correspondence,
+                    "point-to-point pairing: model_to_sensed (thesis) or sensed_to_model");
+    cmd->add_option("--pairing", pairing, "point-to-plane pairing: symmetric (default) or sensed_to_model");
+    cmd->add_option("--icp-iterations", icp_iterations, "ICP iterations at most (thesis 30, default 60)");
+    cmd->add_option("--max-correspondence", max_correspondence_m,
+                    "ICP pairs farther apart are ignored [m] (thesis: none; default 2)");
+    cmd->add_option("--max-residual", o.frame.max_icp_rmse_m,
+                    "ICP residual allowance at zero range [m]; 3 sigma of the expected stereo depth noise is added")
+        ->capture_default_str();
+    cmd->add_option("--disparity", disparity, "bm (StereoBM, thesis) or sgbm")->capture_default_str();
+    cmd->add_option("--num-disparities", num_disparities, "disparities searched (48)");
+    cmd->add_option("--block-size", block_size, "matching block size [px] (9)");
+    cmd->add_option("--halo", halo, "remove the block-matching halo around the silhouette (default preset: true)");
+    cmd->add_option("--rounding", rounding, "subtract StereoBM's 15/512 px rounding bias (default preset: true)");
+    cmd->add_option("--subpixel", subpixel, "symmetric sub-pixel refinement (default: false)");
+    cmd->add_option("--widen-search", widen, "match near frames again with a wider disparity search (default: true)");
+    cmd->add_option("--disparity-offset", disparity_offset_px, "also subtracted from every disparity [px] (0)");
+    cmd->add_option("--disparity-noise", disparity_noise_px, "disparity noise of the ICP noise model [px] (0.1)");
+    cmd->add_option("--keep-one-in", keep_one_in, "keep one re-projected point in N (8)");
+    cmd->add_option("--target-points", target_points,
+                    "raise the decimation so that about this many points remain (default preset 4000; 0 = off)");
+    cmd->add_flag("--truth-cloud", truth_cloud,
+                  "diagnosis: register the ideal cloud (depth truth at the sensed pixels; datasets with --depth)");
+    cmd->add_flag("--no-progress", [this](int64_t) { options.progress = false; }, "quiet stderr");
   }
-}
+
+  void Resolve() {
+    aar::AnalysisRunOptions& o = options;
+    const double max_residual = o.frame.max_icp_rmse_m;
+    o.preset = aar::ParsePreset(preset);
+    o.frame = aar::FrameAnalysisOptions::ForPreset(o.preset);
+    o.frame.max_icp_rmse_m = max_residual;
+    o.reference.options = reference.Resolve();
+    if (!calibration.empty()) o.calibration = calibration;
+    if (!receiver.empty()) o.receiver_model = receiver;
+    o.selection = aar::ParseFrameSelection(frames, shard);
+    aar::FrameAnalysisOptions& f = o.frame;
+    if (disparity == "bm") {
+      f.disparity.algorithm = aar::DisparityAlgorithm::kBlockMatching;
+    } else if (disparity == "sgbm") {
+      f.disparity.algorithm = aar::DisparityAlgorithm::kSemiGlobal;
+    } else {
+      throw aar::Error("--disparity '" + disparity + "': expected bm or sgbm");
+    }
+    if (seed) f.seed = aar::ParseIcpSeed(*seed);
+    if (registration) f.registration = aar::ParseRegistration(*registration);
+    if (correspondence) f.icp.correspondence = aar::ParseIcpCorrespondence(*correspondence);
+    if (pairing) f.plane_icp.pairing = aar::ParsePlanePairing(*pairing);
+    if (icp_iterations) f.icp.max_iterations = f.plane_icp.max_iterations = *icp_iterations;
+    if (max_correspondence_m) f.icp.max_correspondence_distance_m = f.plane_icp.max_correspondence_distance_m = *max_correspondence_m;
+    if (num_disparities) f.disparity.num_disparities = *num_disparities;
+    if (block_size) {
+      f.disparity.block_size = *block_size;
+      f.halo.radius_px = aar::HaloRadiusPx(f.disparity);
+      f.subpixel.half_window_px = *block_size / 2;
+    }
+    if (halo) f.remove_halo = *halo;
+    if (rounding) f.remove_rounding_bias = *rounding;
+    if (subpixel) f.refine_subpixel = *subpixel;
+    if (widen) f.widen_disparity_search = *widen;
+    if (disparity_offset_px) f.reprojection.disparity_offset_px = *disparity_offset_px;
+    if (disparity_noise_px) f.plane_icp.disparity_noise_px = f.disparity_noise_px = *disparity_noise_px;
+    if (keep_one_in) f.reprojection.keep_one_in = *keep_one_in;
+    if (target_points) f.reprojection.target_points = *target_points;
+    f.register_truth_cloud = truth_cloud;
+    f.Check();
+    if (o.out.empty()) o.out = std::filesystem::path("results") / (DatasetName(o.dataset) + "-" + o.reference.model);
+  }
+};
 
 double Median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -92,97 +173,141 @@ void PrintStageMedians(const std::vector<aar::FrameResult>& frames) {
     icp.push_back(f.times.icp_ms);
     total.push_back(f.times.total_ms);
   }
-  std::printf("| frames | load ms | rectify ms | disparity ms | reproject ms | ICP ms | total ms |\n");
-  std::printf("|---|---|---|---|---|---|---|\n");
-  std::printf("| %zu | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f |\n", total.size(), Median(load), Median(rectify),
-              Median(disparity), Median(reproject), Median(icp), Median(total));
+  std::printf("| frames | load ms | rectify ms | disparity ms | reproject ms | ICP ms | total ms | total - load ms |\n");
+  std::printf("|---|---|---|---|---|---|---|---|\n");
+  std::vector<double> compute;
+  for (const aar::FrameResult& f : frames) {
+    if (f.ok()) compute.push_back(f.times.total_ms - f.times.load_ms);
+  }
+  std::printf("| %zu | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f |\n", total.size(), Median(load),
+              Median(rectify), Median(disparity), Median(reproject), Median(icp), Median(total), Median(compute));
 }
 
-std::string DatasetName(const std::filesystem::path& dataset) {
-  const std::filesystem::path clean = dataset.lexically_normal();
-  return (clean.has_filename() ? clean.filename() : clean.parent_path().filename()).string();
+// Parses `app` from argv (argv[0] = the subcommand); returns the exit code
+// CLI11 asks for (help, bad flags), or nullopt to go on.
+std::optional<int> Parse(CLI::App& app, int argc, char** argv) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  return std::nullopt;
+}
+
+int RunCalibrate(int argc, char** argv) {
+  CLI::App app{"stereo calibration from DATASET/calib (thesis 3.3)", "aar-analyze calibrate"};
+  std::filesystem::path dataset, out;
+  aar::CalibrationOptions options;
+  app.add_option("dataset", dataset, "dataset folder")->required();
+  app.add_option("--out", out, "output folder (default: results/<dataset>-calibration)");
+  app.add_flag("--estimate-distortion", [&](int64_t) { options.fix_distortion = false; },
+               "also estimate k1 k2 p1 p2 k3 (the renderer has none)");
+  if (const auto code = Parse(app, argc, argv)) return *code;
+  if (out.empty()) out = std::filesystem::path("results") / (DatasetName(dataset) + "-calibration");
+  const aar::CalibrateOutput result = aar::CalibrateDataset(dataset, options);
+  aar::WriteCalibrationOutputs(out, result);
+  std::printf("%s\nwrote %s and %s\n", result.result.BriefReport().c_str(), (out / aar::kCalibrationYamlName).c_str(),
+              (out / aar::kCalibrationReportName).c_str());
+  return 0;
+}
+
+int RunReference(int argc, char** argv) {
+  CLI::App app{"build a reference point cloud and write it as PLY", "aar-analyze reference"};
+  std::string model = "shelled", receiver = "scenes/c12.glb", rig_path = "scenes/rig.json", out;
+  ReferenceFlags reference;
+  app.add_option("--model", model, "full or shelled")->capture_default_str();
+  app.add_option("--receiver", receiver, "receiver glTF")->capture_default_str();
+  app.add_option("--rig", rig_path, "camera rig (shelling uses its contact position)")->capture_default_str();
+  reference.Add(&app);
+  app.add_option("--out", out, "PLY file (default: reference_<model>.ply)");
+  if (const auto code = Parse(app, argc, argv)) return *code;
+  const aar::TriangleMesh mesh = aar::LoadReceiverMesh(receiver);
+  const aar::StereoRig rig = aar::LoadRig(rig_path);
+  const aar::ReferenceModel result = aar::BuildReferenceModel(mesh, rig, {model, reference.Resolve()});
+  if (out.empty()) out = "reference_" + result.name + ".ply";
+  aar::WritePly(out, result.points_in_receiver, {"aar-analyze reference model '" + result.name + "'"});
+  std::printf("%s model: %zu points -> %s\n", result.name.c_str(), result.points_in_receiver.size(), out.c_str());
+  return 0;
+}
+
+int RunRunOrBench(int argc, char** argv, bool bench) {
+  CLI::App app{bench ? "time the pipeline stages per frame (median, one core); writes nothing"
+                     : "analyze every frame (or a selection) and summarise per region",
+               bench ? "aar-analyze bench" : "aar-analyze run"};
+  RunFlags flags;
+  flags.Add(&app);
+  if (!bench) app.add_option("--out", flags.options.out, "output folder (default: results/<dataset>-<model>)");
+  if (const auto code = Parse(app, argc, argv)) return *code;
+  flags.Resolve();
+  if (bench) flags.options.write_outputs = false;
+  const aar::AnalysisRunResult result = aar::RunAnalysis(flags.options);
+  const size_t failed =
+      std::count_if(result.frames.begin(), result.frames.end(), [](const aar::FrameResult& r) { return !r.ok(); });
+  std::fprintf(stderr, "%zu frames analyzed, %zu not measured%s%s\n", result.frames.size(), failed,
+               bench ? "" : "; results in ", bench ? "" : flags.options.out.c_str());
+  if (bench) PrintStageMedians(result.frames);
+  return 0;
+}
+
+int RunRun(int argc, char** argv) { return RunRunOrBench(argc, argv, false); }
+int RunBench(int argc, char** argv) { return RunRunOrBench(argc, argv, true); }
+
+int RunMerge(int argc, char** argv) {
+  CLI::App app{"combine the outputs of shard runs into one summary", "aar-analyze merge"};
+  std::vector<std::filesystem::path> inputs;
+  std::filesystem::path out;
+  app.add_option("shards", inputs, "run folders of the shards")->required()->check(CLI::ExistingDirectory);
+  app.add_option("--out", out, "output folder")->required();
+  if (const auto code = Parse(app, argc, argv)) return *code;
+  aar::MergeRuns(inputs, out);
+  std::fprintf(stderr, "merged %zu shards into %s\n", inputs.size(), out.c_str());
+  return 0;
+}
+
+struct Command {
+  const char* name;
+  int (*run)(int argc, char** argv);
+  const char* help;
+};
+
+constexpr Command kCommands[] = {
+    {"calibrate", RunCalibrate, "stereo calibration from DATASET/calib (thesis 3.3)"},
+    {"reference", RunReference, "build a reference point cloud (full or shelled) and write it as PLY"},
+    {"run", RunRun, "analyze every frame (or a selection) and summarise per region"},
+    {"bench", RunBench, "time the pipeline stages per frame (median, one core); writes nothing"},
+    {"merge", RunMerge, "combine the outputs of shard runs into one summary"},
+};
+
+void PrintUsage(FILE* out) {
+  std::fprintf(out,
+               "aar-analyze: calibrates the stereo pair, computes disparity, re-projects and registers a reference "
+               "model with ICP over a saved dataset; writes per-frame CSV and per-region statistics "
+               "(docs/analysis.md).\n\nUsage: aar-analyze COMMAND [OPTIONS]   (aar-analyze COMMAND --help for its "
+               "options)\n\nCommands:\n");
+  for (const Command& c : kCommands) std::fprintf(out, "  %-10s %s\n", c.name, c.help);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   cv::setNumThreads(1);  // one core, deterministic (docs/performance.md)
-  CLI::App app{
-      "aar-analyze: calibrates the stereo pair, computes disparity, re-projects and registers a reference model "
-      "with ICP over a saved dataset; writes per-frame CSV and per-region statistics (docs/analysis.md)."};
-  app.require_subcommand(1);
-
-  std::filesystem::path calib_dataset, calib_out;
-  aar::CalibrationOptions calib_options;
-  CLI::App* calibrate = app.add_subcommand("calibrate", "stereo calibration from DATASET/calib (thesis 3.3)");
-  calibrate->add_option("dataset", calib_dataset, "dataset folder")->required();
-  calibrate->add_option("--out", calib_out, "output folder (default: results/<dataset>-calibration)");
-  calibrate->add_flag("--estimate-distortion", [&](int64_t) { calib_options.fix_distortion = false; },
-                      "also estimate k1 k2 p1 p2 k3 (the renderer has none)");
-
-  std::string ref_model = "shelled", ref_receiver = "scenes/c12.glb", ref_rig = "scenes/rig.json", ref_out;
-  aar::ReferenceModelOptions ref_options;
-  CLI::App* reference = app.add_subcommand("reference", "build a reference point cloud and write it as PLY");
-  reference->add_option("--model", ref_model, "full or shelled")->capture_default_str();
-  reference->add_option("--receiver", ref_receiver, "receiver glTF")->capture_default_str();
-  reference->add_option("--rig", ref_rig, "camera rig (shelling uses its contact position)")->capture_default_str();
-  reference->add_option("--points", ref_options.num_points, "full-model points")->capture_default_str();
-  reference->add_option("--out", ref_out, "PLY file (default: reference_<model>.ply)");
-
-  RunFlags run_flags;
-  CLI::App* run = app.add_subcommand("run", "analyze every frame (or a selection) and summarise per region");
-  AddRunFlags(run, run_flags);
-  run->add_option("--out", run_flags.options.out, "output folder (default: results/<dataset>-<model>)");
-
-  RunFlags bench_flags;
-  CLI::App* bench = app.add_subcommand("bench", "time the pipeline stages per frame (median, one core); writes nothing");
-  AddRunFlags(bench, bench_flags);
-
-  std::vector<std::filesystem::path> merge_inputs;
-  std::filesystem::path merge_out;
-  CLI::App* merge = app.add_subcommand("merge", "combine the outputs of shard runs into one summary");
-  merge->add_option("shards", merge_inputs, "run folders of the shards")->required()->check(CLI::ExistingDirectory);
-  merge->add_option("--out", merge_out, "output folder")->required();
-
-  CLI11_PARSE(app, argc, argv);
-  try {
-    if (calibrate->parsed()) {
-      if (calib_out.empty()) calib_out = std::filesystem::path("results") / (DatasetName(calib_dataset) + "-calibration");
-      const aar::CalibrateOutput out = aar::CalibrateDataset(calib_dataset, calib_options);
-      aar::WriteCalibrationOutputs(calib_out, out);
-      std::printf("%s\nwrote %s and %s\n", out.result.BriefReport().c_str(),
-                  (calib_out / aar::kCalibrationYamlName).c_str(), (calib_out / aar::kCalibrationReportName).c_str());
-    } else if (reference->parsed()) {
-      const aar::TriangleMesh mesh = aar::LoadReceiverMesh(ref_receiver);
-      const aar::StereoRig rig = aar::LoadRig(ref_rig);
-      const aar::ReferenceModel model = aar::BuildReferenceModel(mesh, rig, {ref_model, ref_options});
-      if (ref_out.empty()) ref_out = "reference_" + model.name + ".ply";
-      aar::WritePly(ref_out, model.points_in_receiver, {"aar-analyze reference model '" + model.name + "'"});
-      std::printf("%s model: %zu points -> %s\n", model.name.c_str(), model.points_in_receiver.size(), ref_out.c_str());
-    } else if (run->parsed() || bench->parsed()) {
-      RunFlags& f = run->parsed() ? run_flags : bench_flags;
-      Resolve(f);
-      if (bench->parsed()) f.options.write_outputs = false;
-      if (f.options.out.empty()) {
-        f.options.out = std::filesystem::path("results") / (DatasetName(f.options.dataset) + "-" + f.options.reference.model);
-      }
-      const aar::AnalysisRunResult result = aar::RunAnalysis(f.options);
-      const size_t failed = std::count_if(result.frames.begin(), result.frames.end(),
-                                          [](const aar::FrameResult& r) { return !r.ok(); });
-      std::fprintf(stderr, "%zu frames analyzed, %zu not measured%s%s\n", result.frames.size(), failed,
-                   f.options.write_outputs ? "; results in " : "",
-                   f.options.write_outputs ? f.options.out.c_str() : "");
-      if (bench->parsed()) PrintStageMedians(result.frames);
-    } else if (merge->parsed()) {
-      aar::MergeRuns(merge_inputs, merge_out);
-      std::fprintf(stderr, "merged %zu shards into %s\n", merge_inputs.size(), merge_out.c_str());
-    }
-  } catch (const aar::Error& e) {
-    std::fprintf(stderr, "aar-analyze: error: %s\n", e.what());
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "aar-analyze: internal error: %s\n", e.what());
-    return 2;
+  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
+    PrintUsage(argc < 2 ? stderr : stdout);
+    return argc < 2 ? 1 : 0;
   }
-  return 0;
+  for (const Command& c : kCommands) {
+    if (std::strcmp(argv[1], c.name) != 0) continue;
+    try {
+      return c.run(argc - 1, argv + 1);
+    } catch (const aar::Error& e) {
+      std::fprintf(stderr, "aar-analyze: error: %s\n", e.what());
+      return 1;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "aar-analyze: internal error: %s\n", e.what());
+      return 2;
+    }
+  }
+  std::fprintf(stderr, "aar-analyze: error: unknown command '%s'\n\n", argv[1]);
+  PrintUsage(stderr);
+  return 1;
 }

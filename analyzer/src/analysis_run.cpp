@@ -1,8 +1,10 @@
 #include "aar/analyzer/analysis_run.h"
 
+#include <cmath>
 #include <cstdio>
 
 #include "aar/analyzer/mesh.h"
+#include "aar/analyzer/ply.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
 #include "aar/flight_path.h"
@@ -22,29 +24,54 @@ nlohmann::json MatJson(const cv::Mat& m) {
   return rows;
 }
 
+nlohmann::json Finite(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json("inf"); }
+
 nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
   const FrameAnalysisOptions& f = o.frame;
-  return {{"disparity",
+  nlohmann::json registration = {{"algorithm", ToString(f.registration)}, {"seed", ToString(f.seed)}};
+  if (f.registration == Registration::kPointToPoint) {
+    registration.update({{"max_iterations", f.icp.max_iterations},
+                         {"correspondence", ToString(f.icp.correspondence)},
+                         {"max_correspondence_distance_m", Finite(f.icp.max_correspondence_distance_m)}});
+  } else {
+    const PlaneIcpOptions& p = f.plane_icp;
+    registration.update({{"max_iterations", p.max_iterations},
+                         {"pairing", ToString(p.pairing)},
+                         {"max_correspondence_distance_m", Finite(p.max_correspondence_distance_m)},
+                         {"robust_scale", p.robust_scale},
+                         {"disparity_noise_px", p.disparity_noise_px},
+                         {"lateral_noise_px", p.lateral_noise_px},
+                         {"surface_noise_m", p.surface_noise_m}});
+  }
+  const ReferenceModelOptions& r = o.reference.options;
+  return {{"preset", ToString(o.preset)},
+          {"disparity",
            {{"algorithm", f.disparity.algorithm == DisparityAlgorithm::kBlockMatching ? "bm" : "sgbm"},
             {"num_disparities", f.disparity.num_disparities},
             {"block_size", f.disparity.block_size},
             {"speckle_window_size", f.disparity.speckle_window_size},
-            {"speckle_range_px", f.disparity.speckle_range_px}}},
+            {"speckle_range_px", f.disparity.speckle_range_px},
+            {"halo_radius_px", f.remove_halo ? f.halo.radius_px : 0},
+            {"rounding_bias_px", f.remove_rounding_bias ? MatcherRoundingBiasPx(f.disparity.algorithm) : 0.0},
+            {"subpixel", f.refine_subpixel ? "symmetric" : "none"},
+            {"widen_search", f.widen_disparity_search}}},
           {"reprojection",
            {{"max_depth_m", f.reprojection.max_depth_m},
             {"keep_one_in", f.reprojection.keep_one_in},
+            {"target_points", f.reprojection.target_points},
             {"disparity_offset_px", f.reprojection.disparity_offset_px}}},
-          {"icp",
-           {{"max_iterations", f.icp.max_iterations},
-            {"correspondence", ToString(f.icp.correspondence)},
-            {"max_correspondence_distance_m",
-             std::isfinite(f.icp.max_correspondence_distance_m) ? nlohmann::json(f.icp.max_correspondence_distance_m)
-                                                                 : nlohmann::json("inf")},
-            {"seed", ToString(f.seed)}}},
+          {"icp", registration},
           {"reference",
            {{"model", o.reference.model},
-            {"num_points", o.reference.options.num_points},
-            {"seed", o.reference.options.seed}}}};
+            {"num_points", r.num_points},
+            {"seed", r.seed},
+            {"shell",
+             {{"cameras", ToString(r.cameras)},
+              {"depth_tolerance_m", r.depth_tolerance_m},
+              {"plane_depth_test", r.plane_depth_test},
+              {"window_radius_px", r.neighbourhood_radius_px},
+              {"raster_scale", r.raster_scale},
+              {"min_incidence_deg", r.min_incidence_deg}}}}}};
 }
 
 std::string DescribeSelection(const FrameSelection& s) {
@@ -77,7 +104,7 @@ ReferenceModel BuildReferenceModel(const TriangleMesh& mesh, const StereoRig& ri
   }
   ReferenceModel full = FullModel(mesh, request.options);
   if (request.model == "full") return full;
-  return ShellModel(full.points_in_receiver, mesh, rig, request.options);
+  return ShellModel(full, mesh, rig, request.options);
 }
 
 CalibrateOutput CalibrateDataset(const std::filesystem::path& dataset, const CalibrationOptions& options) {
@@ -152,7 +179,7 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
     std::fprintf(stderr, "reference model '%s': %zu points\n", reference.name.c_str(),
                  reference.points_in_receiver.size());
   }
-  const FrameAnalyzer analyzer(calibration, rig.left.tanker_from_camera, reference.points_in_receiver, options.frame);
+  const FrameAnalyzer analyzer(calibration, rig.left.tanker_from_camera, reference, options.frame);
 
   const nlohmann::json run = {{"schema", "aar-run/1"},
                               {"dataset_manifest_sha256", Sha256File(options.dataset / kManifestName)},

@@ -31,24 +31,24 @@ cv::Ptr<cv::StereoMatcher> MakeMatcher(const DisparityOptions& o) {
 
 }  // namespace
 
-bool DisparityOptions::IsValid(std::string* error) const {
-  auto fail = [&](const std::string& message) {
-    if (error) *error = message;
-    return false;
-  };
-  if (num_disparities <= 0 || num_disparities % 16 != 0) return fail("num_disparities must be a positive multiple of 16");
+double MatcherRoundingBiasPx(DisparityAlgorithm algorithm) {
+  return algorithm == DisparityAlgorithm::kBlockMatching ? 15.0 / 512.0 : 0.0;
+}
+
+void DisparityOptions::Check() const {
+  const auto fail = [](const std::string& message) { throw Error("disparity options: " + message); };
+  if (num_disparities <= 0 || num_disparities % 16 != 0) fail("num_disparities must be a positive multiple of 16");
   if (block_size < 5 || block_size > 255 || block_size % 2 == 0) {
     if (algorithm == DisparityAlgorithm::kBlockMatching || block_size < 1 || block_size % 2 == 0) {
-      return fail("block_size must be odd (5..255 for block matching)");
+      fail("block_size must be odd (5..255 for block matching)");
     }
   }
-  if (pre_filter_cap < 1 || pre_filter_cap > 63) return fail("pre_filter_cap must be in 1..63");
-  if (texture_threshold < 0) return fail("texture_threshold must be non-negative");
-  if (uniqueness_ratio < 0) return fail("uniqueness_ratio must be non-negative");
-  if (speckle_window_size < 0) return fail("speckle_window_size must be non-negative");
-  if (!(speckle_range_px >= 0)) return fail("speckle_range_px must be non-negative");
-  if (sgbm_p1 < 0 || sgbm_p2 <= sgbm_p1) return fail("SGBM needs 0 <= p1 < p2");
-  return true;
+  if (pre_filter_cap < 1 || pre_filter_cap > 63) fail("pre_filter_cap must be in 1..63");
+  if (texture_threshold < 0) fail("texture_threshold must be non-negative");
+  if (uniqueness_ratio < 0) fail("uniqueness_ratio must be non-negative");
+  if (speckle_window_size < 0) fail("speckle_window_size must be non-negative");
+  if (!(speckle_range_px >= 0)) fail("speckle_range_px must be non-negative");
+  if (sgbm_p1 < 0 || sgbm_p2 <= sgbm_p1) fail("SGBM needs 0 <= p1 < p2");
 }
 
 cv::Mat ToGrayscale(const cv::Mat& image) {
@@ -81,8 +81,7 @@ void Rectifier::Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& rect
 
 DisparityMap ComputeDisparity(const cv::Mat& rect_left_gray, const cv::Mat& rect_right_gray,
                               const DisparityOptions& options) {
-  std::string invalid;
-  if (!options.IsValid(&invalid)) throw Error("disparity options: " + invalid);
+  options.Check();
   if (rect_left_gray.type() != CV_8UC1 || rect_right_gray.type() != CV_8UC1) {
     throw Error("disparity: rectified images must be 8-bit grayscale");
   }

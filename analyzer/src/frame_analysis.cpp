@@ -1,7 +1,11 @@
 #include "aar/analyzer/frame_analysis.h"
 
+#include "aar/analyzer/subpixel.h"
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -44,25 +48,94 @@ IcpSeed ParseIcpSeed(const std::string& text) {
   throw Error("--seed '" + text + "': expected centroid or previous");
 }
 
+std::string ToString(Registration registration) {
+  return registration == Registration::kPointToPoint ? "point_to_point" : "point_to_plane";
+}
+
+Registration ParseRegistration(const std::string& text) {
+  if (text == "point_to_point") return Registration::kPointToPoint;
+  if (text == "point_to_plane") return Registration::kPointToPlane;
+  throw Error("--registration '" + text + "': expected point_to_point or point_to_plane");
+}
+
+std::string ToString(Preset preset) { return preset == Preset::kThesis ? "thesis" : "default"; }
+
+Preset ParsePreset(const std::string& text) {
+  if (text == "default") return Preset::kDefault;
+  if (text == "thesis") return Preset::kThesis;
+  throw Error("--preset '" + text + "': expected default or thesis");
+}
+
+FrameAnalysisOptions FrameAnalysisOptions::ForPreset(Preset preset) {
+  FrameAnalysisOptions o;
+  o.halo.radius_px = HaloRadiusPx(o.disparity);
+  if (preset == Preset::kThesis) {
+    o.remove_halo = false;
+    o.remove_rounding_bias = false;
+    o.refine_subpixel = false;
+    o.reprojection.target_points = 0;
+    o.reprojection.keep_one_in = 8;
+    o.registration = Registration::kPointToPoint;
+    o.icp.correspondence = IcpCorrespondence::kModelToSensed;
+    o.icp.max_iterations = 30;
+    o.seed = IcpSeed::kCentroid;
+    o.widen_disparity_search = false;
+  }
+  return o;
+}
+
 void FrameAnalysisOptions::Check() const {
-  std::string reason;
-  if (!disparity.IsValid(&reason)) throw Error("disparity options: " + reason);
+  disparity.Check();
+  halo.Check();
+  subpixel.Check();
   icp.Check();
+  plane_icp.Check();
   if (reprojection.keep_one_in == 0) throw Error("reprojection keep_one_in must be at least 1");
   if (!(max_icp_rmse_m > 0)) throw Error("max_icp_rmse_m must be positive");
   if (!(disparity_noise_px >= 0)) throw Error("disparity_noise_px must not be negative");
 }
 
 FrameAnalyzer::FrameAnalyzer(const StereoCalibration& calibration, const Eigen::Isometry3d& tanker_from_left,
-                             std::vector<Eigen::Vector3d> model_points_in_receiver,
-                             const FrameAnalysisOptions& options)
+                             const ReferenceModel& model, const FrameAnalysisOptions& options)
     : calibration_(calibration),
       tanker_from_left_(tanker_from_left),
       focal_times_baseline_px_m_(std::abs(calibration.Q.at<double>(2, 3) / calibration.Q.at<double>(3, 2))),
       rectifier_(calibration),
-      registration_(std::move(model_points_in_receiver), options.icp),
+      model_points_(model.points_in_receiver),
       options_(options) {
   options_.Check();
+  if (options_.registration == Registration::kPointToPoint) {
+    point_icp_ = std::make_unique<IcpRegistration>(model.points_in_receiver, options_.icp);
+  } else {
+    StereoNoiseGeometry geometry;
+    geometry.camera_centre_in_tanker = tanker_from_left.translation();
+    geometry.optical_axis_in_tanker = tanker_from_left.linear().col(2);
+    geometry.focal_px = std::abs(calibration.Q.at<double>(2, 3));
+    geometry.focal_times_baseline_px_m = focal_times_baseline_px_m_;
+    plane_icp_ = std::make_unique<PlaneIcpRegistration>(model.points_in_receiver, model.normals_in_receiver, geometry,
+                                                        options_.plane_icp);
+  }
+}
+
+FrameAnalyzer::Registered FrameAnalyzer::Register(const std::vector<Eigen::Vector3d>& sensed,
+                                                  const std::optional<Pose>& previous) const {
+  const Eigen::Isometry3d initial = options_.seed == IcpSeed::kPreviousFrame && previous
+                                        ? IsometryFromPose(*previous)
+                                        : InitialGuessAtCentroid(sensed, model_points_);
+  if (point_icp_) {
+    const IcpResult r = point_icp_->Register(sensed, initial);
+    return {r.tanker_from_receiver, r.iterations, r.converged, r.rmse_m, r.num_inliers};
+  }
+  const PlaneIcpResult r = plane_icp_->Register(sensed, initial);
+  return {r.tanker_from_receiver, r.iterations, r.converged, r.rmse_m, r.num_inliers};
+}
+
+double FrameAnalyzer::ModelMaxDisparityPx(const Eigen::Isometry3d& tanker_from_receiver) const {
+  // Depth along the left optical axis of the nearest model point; d = f b / z.
+  const Eigen::Isometry3d left_from_receiver = tanker_from_left_.inverse() * tanker_from_receiver;
+  double min_z = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& m : model_points_) min_z = std::min(min_z, (left_from_receiver * m).z());
+  return min_z > 0.0 ? focal_times_baseline_px_m_ / min_z : std::numeric_limits<double>::infinity();
 }
 
 FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t index,
@@ -96,41 +169,86 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
     rectifier_.Rectify(left, right, rect_left, rect_right);
     r.times.rectify_ms = MillisecondsSince(start);
 
-    start = std::chrono::steady_clock::now();
-    const DisparityMap disparity = ComputeDisparity(rect_left, rect_right, options_.disparity);
-    r.times.disparity_ms = MillisecondsSince(start);
-
-    start = std::chrono::steady_clock::now();
-    const SensedCloud cloud = Reproject(disparity.disparity16, disparity.invalid_value16, calibration_,
-                                        tanker_from_left_, options_.reprojection);
-    r.sensed_points = cloud.points_in_tanker.size();
-    r.times.reproject_ms = MillisecondsSince(start);
-    if (cloud.points_in_tanker.size() < options_.min_sensed_points) {
-      throw Error((dataset / sidecar.files.at("left").path).string() + ": only " +
-                  std::to_string(cloud.points_in_tanker.size()) + " sensed points (receiver out of view?)");
+    const std::string left_path = (dataset / sidecar.files.at("left").path).string();
+    Eigen::Isometry3d left_from_rect_left = Eigen::Isometry3d::Identity();
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) left_from_rect_left.linear()(i, j) = calibration_.R1.at<double>(j, i);
     }
+    const Eigen::Isometry3d tanker_from_rect_left = tanker_from_left_ * left_from_rect_left;
+    const std::unique_ptr<SubpixelRefiner> refiner =
+        options_.refine_subpixel ? std::make_unique<SubpixelRefiner>(rect_left, rect_right, options_.subpixel)
+                                 : nullptr;
+    DisparityOptions disparity_options = options_.disparity;
+    SensedCloud cloud;
+    Registered icp{};
+    for (int attempt = 0;; ++attempt) {
+      start = std::chrono::steady_clock::now();
+      DisparityMap disparity = ComputeDisparity(rect_left, rect_right, disparity_options);
+      if (options_.remove_halo) RemoveHalo(disparity.disparity16, disparity.invalid_value16, options_.halo);
+      r.times.disparity_ms += MillisecondsSince(start);
 
-    start = std::chrono::steady_clock::now();
-    const Eigen::Isometry3d initial =
-        options_.seed == IcpSeed::kPreviousFrame && previous
-            ? IsometryFromPose(*previous)
-            : InitialGuessAtCentroid(cloud.points_in_tanker, registration_.model_points_in_receiver());
-    const IcpResult icp = registration_.Register(cloud.points_in_tanker, initial);
-    r.times.icp_ms = MillisecondsSince(start);
+      start = std::chrono::steady_clock::now();
+      ReprojectionOptions reprojection = options_.reprojection;
+      if (options_.remove_rounding_bias) reprojection.disparity_offset_px += MatcherRoundingBiasPx(disparity_options.algorithm);
+      cloud = Reproject(disparity.disparity16, disparity.invalid_value16, calibration_, tanker_from_left_, reprojection,
+                        refiner.get());
+      r.sensed_points = cloud.points_in_tanker.size();
+      r.times.reproject_ms += MillisecondsSince(start);
+      if (cloud.points_in_tanker.size() < options_.min_sensed_points) {
+        throw Error(left_path + ": only " + std::to_string(cloud.points_in_tanker.size()) +
+                    " sensed points (receiver out of view?)");
+      }
+
+      if (sidecar.files.count("left_depth") && sidecar.files.count("left_mask")) {
+        const DepthTruth truth = ReadDepthTruth(dataset / sidecar.files.at("left_depth").path,
+                                                dataset / sidecar.files.at("left_mask").path);
+        std::vector<Eigen::Vector3d> ideal;
+        r.stereo_truth = CompareWithTruth(cloud.pixels, truth, calibration_, {},
+                                          options_.register_truth_cloud ? &ideal : nullptr);
+        if (options_.register_truth_cloud) {
+          cloud.points_in_tanker.clear();
+          for (const Eigen::Vector3d& p : ideal) cloud.points_in_tanker.push_back(tanker_from_rect_left * p);
+        }
+      } else if (options_.register_truth_cloud) {
+        throw Error(left_path + ": no depth truth for the ideal cloud (render with --depth)");
+      }
+
+      start = std::chrono::steady_clock::now();
+      icp = Register(cloud.points_in_tanker, previous);
+      r.times.icp_ms += MillisecondsSince(start);
+      // Near frames: part of the receiver beyond the search gives no (or
+      // wrong) disparities; search again up to what the estimate needs.
+      const double needed_px = ModelMaxDisparityPx(icp.tanker_from_receiver);
+      const int searched_max = disparity_options.min_disparity + disparity_options.num_disparities - 1;
+      if (!(needed_px > searched_max)) break;
+      if (!options_.widen_disparity_search) break;  // the thesis: what the search covers
+      if (attempt > 0 || !std::isfinite(needed_px) || needed_px > 250.0) {
+        r.estimate = PoseFromIsometry(icp.tanker_from_receiver);
+        r.error = PoseError(r.estimate, r.truth);
+        r.has_estimate = true;
+        throw Error(left_path + ": out of stereo range (the receiver needs " + FormatFixed(needed_px, 0) +
+                    " px of disparity, the search covers " + std::to_string(searched_max) + ")");
+      }
+      const double wanted_px = needed_px * 1.1 + 2.0;  // 10 % and 2 px of margin for the first estimate's error
+      disparity_options.num_disparities =
+          static_cast<int>(std::ceil((wanted_px - disparity_options.min_disparity + 1) / 16.0)) * 16;
+    }
     r.icp_iterations = icp.iterations;
     r.icp_converged = icp.converged;
     r.icp_rmse_m = icp.rmse_m;
-    r.icp_inliers = icp.num_inliers;
+    r.icp_inliers = icp.inliers;
     const double range_m = (icp.tanker_from_receiver.translation() - tanker_from_left_.translation()).norm();
     const double sigma_z = range_m * range_m * options_.disparity_noise_px / focal_times_baseline_px_m_;
     const double limit_m = options_.max_icp_rmse_m + 3.0 * sigma_z;
-    if (!icp.tanker_from_receiver.matrix().allFinite() || !(icp.rmse_m <= limit_m)) {
-      throw Error((dataset / sidecar.files.at("left").path).string() + ": ICP did not converge (residual " +
-                  FormatFixed(icp.rmse_m, 3) + " m, limit " + FormatFixed(limit_m, 3) + " m at " +
-                  FormatFixed(range_m, 1) + " m)");
+    if (icp.tanker_from_receiver.matrix().allFinite()) {
+      r.estimate = PoseFromIsometry(icp.tanker_from_receiver);
+      r.error = PoseError(r.estimate, r.truth);
+      r.has_estimate = true;
     }
-    r.estimate = PoseFromIsometry(icp.tanker_from_receiver);
-    r.error = PoseError(r.estimate, r.truth);
+    if (!icp.tanker_from_receiver.matrix().allFinite() || !(icp.rmse_m <= limit_m)) {
+      throw Error(left_path + ": ICP did not converge (residual " + FormatFixed(icp.rmse_m, 3) + " m, limit " +
+                  FormatFixed(limit_m, 3) + " m at " + FormatFixed(range_m, 1) + " m)");
+    }
     r.status = "ok";
   } catch (const std::exception& e) {  // aar::Error, json or OpenCV errors: the frame is not measured
     r.status = e.what();

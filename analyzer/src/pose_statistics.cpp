@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -17,7 +18,7 @@ namespace {
 
 constexpr int kValueDecimals = 6;  // seconds, metres, degrees
 constexpr int kTimeDecimals = 3;   // milliseconds
-constexpr size_t kColumns = 34;
+constexpr size_t kColumns = 40;
 
 const std::array<const char*, 6> kTimeColumns = {"ms_load",      "ms_rectify", "ms_disparity",
                                                  "ms_reproject", "ms_icp",     "ms_total"};
@@ -65,6 +66,11 @@ GroupStats Aggregate(const std::vector<FrameResult>& frames, const std::string& 
     if (!InGroup(f, group)) continue;
     ++g.frames;
     total_ms_sum += f.times.total_ms;
+    g.stereo_truth.Add(f.stereo_truth);
+    if (f.ok() || f.has_estimate) {
+      ++g.with_estimate;
+      for (size_t d = 0; d < 6; ++d) g.mean_abs_error_all[d] += std::abs(f.error[d]);
+    }
     if (!f.ok()) {
       ++g.failed;
       continue;
@@ -82,6 +88,9 @@ GroupStats Aggregate(const std::vector<FrameResult>& frames, const std::string& 
     icp_ms.push_back(f.times.icp_ms);
   }
   if (g.frames > 0) g.total_ms_mean = total_ms_sum / static_cast<double>(g.frames);
+  if (g.with_estimate > 0) {
+    for (size_t d = 0; d < 6; ++d) g.mean_abs_error_all[d] /= static_cast<double>(g.with_estimate);
+  }
   if (g.ok == 0) return g;
   const double n = static_cast<double>(g.ok);
   for (size_t d = 0; d < 6; ++d) {
@@ -197,6 +206,8 @@ std::string FrameResultsCsvHeader() {
     for (const char* dof : kDofNames) h += std::string(",") + prefix + dof;
   }
   h += ",sensed_points,icp_iterations,icp_converged,icp_rmse_m,icp_inliers";
+  h += ",truth_points,truth_off_receiver,truth_off_surface,truth_error_sum_px,truth_error_squared_sum_px2,"
+       "truth_error_by_fraction";
   for (const char* column : kTimeColumns) h += std::string(",") + column;
   return h;
 }
@@ -218,7 +229,7 @@ std::string FormatFrameResults(const std::vector<FrameResult>& results) {
     const SixDof estimate = PoseValues(f.estimate);
     for (const SixDof* v : {&truth, &estimate, &f.error}) {
       for (size_t d = 0; d < 6; ++d) {
-        field(v == &truth || f.ok() ? FormatFixed((*v)[d], kValueDecimals) : std::string());
+        field(v == &truth || f.ok() || f.has_estimate ? FormatFixed((*v)[d], kValueDecimals) : std::string());
       }
     }
     field(std::to_string(f.sensed_points));
@@ -226,6 +237,17 @@ std::string FormatFrameResults(const std::vector<FrameResult>& results) {
     field(f.icp_converged ? "1" : "0");
     field(FormatFixed(f.icp_rmse_m, kValueDecimals));
     field(std::to_string(f.icp_inliers));
+    const StereoTruthStats& t = f.stereo_truth;
+    field(std::to_string(t.points));
+    field(std::to_string(t.off_receiver));
+    field(std::to_string(t.off_surface));
+    field(FormatFixed(t.error_sum_px, kValueDecimals));
+    field(FormatFixed(t.error_squared_sum_px2, kValueDecimals));
+    std::string bins;
+    for (size_t b = 0; b < kFractionBins; ++b) {
+      bins += (b ? " " : "") + std::to_string(t.bin_count[b]) + "/" + FormatFixed(t.bin_error_sum_px[b], kValueDecimals);
+    }
+    field(bins);
     StageTimes times = f.times;
     for (const double* t : TimeFields(times)) field(FormatFixed(*t, kTimeDecimals));
     out += '\n';
@@ -269,6 +291,7 @@ std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::str
       truth[d] = ParseFiniteDouble(fields[5 + d], column(5 + d));
       const bool empty = fields[11 + d].empty() && fields[17 + d].empty();
       if (f.ok() || !empty) {
+        f.has_estimate = true;
         estimate[d] = ParseFiniteDouble(fields[11 + d], column(11 + d));
         f.error[d] = ParseFiniteDouble(fields[17 + d], column(17 + d));
       }
@@ -281,7 +304,26 @@ std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::str
     f.icp_converged = fields[25] == "1";
     f.icp_rmse_m = ParseFiniteDouble(fields[26], column(26));
     f.icp_inliers = static_cast<size_t>(ParseInteger(fields[27], column(27)));
-    size_t c = 28;
+    StereoTruthStats& t = f.stereo_truth;
+    t.points = static_cast<size_t>(ParseInteger(fields[28], column(28)));
+    t.off_receiver = static_cast<size_t>(ParseInteger(fields[29], column(29)));
+    t.off_surface = static_cast<size_t>(ParseInteger(fields[30], column(30)));
+    t.error_sum_px = ParseFiniteDouble(fields[31], column(31));
+    t.error_squared_sum_px2 = ParseFiniteDouble(fields[32], column(32));
+    {
+      std::istringstream bins(fields[33]);
+      std::string item;
+      size_t b = 0;
+      for (; b < kFractionBins && bins >> item; ++b) {
+        const size_t slash = item.find('/');
+        if (slash == std::string::npos) throw Error(column(33) + ": expected count/sum pairs");
+        t.bin_count[b] = static_cast<size_t>(ParseInteger(item.substr(0, slash), column(33)));
+        t.bin_error_sum_px[b] = ParseFiniteDouble(item.substr(slash + 1), column(33));
+        t.on_receiver += t.bin_count[b];
+      }
+      if (b != kFractionBins || bins >> item) throw Error(column(33) + ": expected 8 count/sum pairs");
+    }
+    size_t c = 34;
     for (double* t : TimeFields(f.times)) {
       *t = ParseFiniteDouble(fields[c], column(c));
       ++c;

@@ -3,10 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <random>
-#include <sstream>
 
 #include "aar/error.h"
 #include "aar/file_io.h"
@@ -122,77 +120,34 @@ DepthBuffer RasterizeDepth(const TriangleMesh& mesh, const Intrinsics& k, const 
   return buffer;
 }
 
-// ---- PLY ----
-
-struct PlyProperty {
-  std::string name;
-  std::string type;
-  int size = 0;       // bytes of a binary scalar
-  bool list = false;  // list properties are only allowed in skipped ascii elements
-};
-
-struct PlyElement {
-  std::string name;
-  size_t count = 0;
-  std::vector<PlyProperty> properties;
-};
-
-int PlyTypeSize(const std::string& type) {
-  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
-  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
-  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" || type == "float32") {
-    return 4;
-  }
-  if (type == "double" || type == "float64") return 8;
-  return 0;
-}
-
-// One binary scalar as a double; `swap` reverses the bytes (file endianness
-// differs from the machine's).
-double PlyBinaryScalar(const unsigned char* p, const PlyProperty& property, bool swap) {
-  unsigned char b[8];
-  for (int i = 0; i < property.size; ++i) b[i] = swap ? p[property.size - 1 - i] : p[i];
-  const std::string& t = property.type;
-  if (t == "char" || t == "int8") return static_cast<double>(static_cast<int8_t>(b[0]));
-  if (t == "uchar" || t == "uint8") return static_cast<double>(b[0]);
-  if (t == "short" || t == "int16") {
-    int16_t v;
-    std::memcpy(&v, b, 2);
-    return v;
-  }
-  if (t == "ushort" || t == "uint16") {
-    uint16_t v;
-    std::memcpy(&v, b, 2);
-    return v;
-  }
-  if (t == "int" || t == "int32") {
-    int32_t v;
-    std::memcpy(&v, b, 4);
-    return v;
-  }
-  if (t == "uint" || t == "uint32") {
-    uint32_t v;
-    std::memcpy(&v, b, 4);
-    return v;
-  }
-  if (t == "float" || t == "float32") {
-    float v;
-    std::memcpy(&v, b, 4);
-    return v;
-  }
-  double v;
-  std::memcpy(&v, b, 8);
-  return v;
-}
-
-bool MachineIsLittleEndian() {
-  const uint16_t probe = 1;
-  unsigned char first;
-  std::memcpy(&first, &probe, 1);
-  return first == 1;
-}
-
 }  // namespace
+
+std::string ToString(ShellCameras cameras) {
+  switch (cameras) {
+    case ShellCameras::kLeft: return "left";
+    case ShellCameras::kEither: return "either";
+    case ShellCameras::kBoth: return "both";
+  }
+  return "both";
+}
+
+ShellCameras ParseShellCameras(const std::string& text) {
+  if (text == "left") return ShellCameras::kLeft;
+  if (text == "either") return ShellCameras::kEither;
+  if (text == "both") return ShellCameras::kBoth;
+  throw Error("shell cameras '" + text + "': expected left, either or both");
+}
+
+ReferenceModelOptions ReferenceModelOptions::Loose() {
+  ReferenceModelOptions o;
+  o.cameras = ShellCameras::kEither;
+  o.depth_tolerance_m = 0.05;
+  o.plane_depth_test = false;
+  o.neighbourhood_radius_px = 1;
+  o.raster_scale = 1;
+  o.min_incidence_deg = -180.0;
+  return o;
+}
 
 void ReferenceModelOptions::Check() const {
   if (num_points == 0) throw Error("reference model: num_points must be positive");
@@ -202,12 +157,14 @@ void ReferenceModelOptions::Check() const {
   if (neighbourhood_radius_px < 0 || neighbourhood_radius_px > 16) {
     throw Error("reference model: neighbourhood_radius_px must be in [0, 16]");
   }
+  if (raster_scale < 1 || raster_scale > 8) throw Error("reference model: raster_scale must be in [1, 8]");
   if (raster_width_px < 0 || raster_height_px < 0 || raster_width_px > 16384 || raster_height_px > 16384) {
-    throw Error("reference model: raster size must be in [0, 16384] (0 = image size)");
+    throw Error("reference model: raster size must be in [0, 16384] (0 = raster_scale x image size)");
   }
+  if (!(min_incidence_deg < 90.0)) throw Error("reference model: min_incidence_deg must be below 90");
 }
 
-std::vector<Eigen::Vector3d> SampleSurface(const TriangleMesh& mesh, size_t num_points, uint64_t seed) {
+ReferenceModel SampleSurfaceWithNormals(const TriangleMesh& mesh, size_t num_points, uint64_t seed) {
   std::vector<double> cumulative_area(mesh.triangles.size());
   double total = 0.0;
   for (size_t i = 0; i < mesh.triangles.size(); ++i) {
@@ -217,8 +174,9 @@ std::vector<Eigen::Vector3d> SampleSurface(const TriangleMesh& mesh, size_t num_
   if (!(total > 0.0) || !std::isfinite(total)) throw Error("SampleSurface: the mesh has no surface area");
 
   std::mt19937_64 generator(seed);
-  std::vector<Eigen::Vector3d> points;
-  points.reserve(num_points);
+  ReferenceModel sample;
+  sample.points_in_receiver.reserve(num_points);
+  sample.normals_in_receiver.reserve(num_points);
   for (size_t n = 0; n < num_points; ++n) {
     const double pick = Uniform01(generator) * total;
     const size_t i =
@@ -228,16 +186,25 @@ std::vector<Eigen::Vector3d> SampleSurface(const TriangleMesh& mesh, size_t num_
     const double sqrt_r1 = std::sqrt(Uniform01(generator));
     const double r2 = Uniform01(generator);
     const Eigen::Vector3i& t = mesh.triangles[i];
-    points.push_back((1.0 - sqrt_r1) * mesh.vertices[static_cast<size_t>(t[0])] +
-                     sqrt_r1 * (1.0 - r2) * mesh.vertices[static_cast<size_t>(t[1])] +
-                     sqrt_r1 * r2 * mesh.vertices[static_cast<size_t>(t[2])]);
+    const Eigen::Vector3d& a = mesh.vertices[static_cast<size_t>(t[0])];
+    const Eigen::Vector3d& b = mesh.vertices[static_cast<size_t>(t[1])];
+    const Eigen::Vector3d& c = mesh.vertices[static_cast<size_t>(t[2])];
+    sample.points_in_receiver.push_back((1.0 - sqrt_r1) * a + sqrt_r1 * (1.0 - r2) * b + sqrt_r1 * r2 * c);
+    // A triangle drawn has positive area, so its normal is defined.
+    sample.normals_in_receiver.push_back((b - a).cross(c - a).normalized());
   }
-  return points;
+  return sample;
+}
+
+std::vector<Eigen::Vector3d> SampleSurface(const TriangleMesh& mesh, size_t num_points, uint64_t seed) {
+  return SampleSurfaceWithNormals(mesh, num_points, seed).points_in_receiver;
 }
 
 ReferenceModel FullModel(const TriangleMesh& mesh, const ReferenceModelOptions& options) {
   options.Check();
-  return {"full", SampleSurface(mesh, options.num_points, options.seed)};
+  ReferenceModel full = SampleSurfaceWithNormals(mesh, options.num_points, options.seed);
+  full.name = "full";
+  return full;
 }
 
 Eigen::Isometry3d ShellTankerFromReceiver(const StereoRig& rig, const ReferenceModelOptions& options) {
@@ -247,26 +214,49 @@ Eigen::Isometry3d ShellTankerFromReceiver(const StereoRig& rig, const ReferenceM
   return tanker_from_receiver;
 }
 
-std::vector<bool> VisibleInCamera(const std::vector<Eigen::Vector3d>& points_in_receiver, const TriangleMesh& mesh,
+std::vector<bool> VisibleInCamera(const std::vector<Eigen::Vector3d>& points_in_receiver,
+                                  const std::vector<Eigen::Vector3d>& normals_in_receiver, const TriangleMesh& mesh,
                                   const Intrinsics& intrinsics, const Eigen::Isometry3d& cam_from_receiver,
                                   double near_m, const ReferenceModelOptions& options) {
   options.Check();
-  const Intrinsics k =
-      ScaledIntrinsics(intrinsics, options.raster_width_px > 0 ? options.raster_width_px : intrinsics.width_px,
-                       options.raster_height_px > 0 ? options.raster_height_px : intrinsics.height_px);
+  const bool with_normals = !normals_in_receiver.empty();
+  if (with_normals && normals_in_receiver.size() != points_in_receiver.size()) {
+    throw Error("visibility test: " + std::to_string(normals_in_receiver.size()) + " normals for " +
+                std::to_string(points_in_receiver.size()) + " points");
+  }
+  const Intrinsics k = ScaledIntrinsics(
+      intrinsics, options.raster_width_px > 0 ? options.raster_width_px : options.raster_scale * intrinsics.width_px,
+      options.raster_height_px > 0 ? options.raster_height_px : options.raster_scale * intrinsics.height_px);
   const DepthBuffer buffer = RasterizeDepth(mesh, k, cam_from_receiver, near_m);
   const int r = options.neighbourhood_radius_px;
+  const bool plane_test = with_normals && options.plane_depth_test;
+  const bool incidence_test = with_normals && options.min_incidence_deg >= -90.0;
+  const double min_sine = std::sin(options.min_incidence_deg * M_PI / 180.0);
   std::vector<bool> visible(points_in_receiver.size(), false);
   for (size_t i = 0; i < points_in_receiver.size(); ++i) {
     const Eigen::Vector3d p = cam_from_receiver * points_in_receiver[i];
     if (p.z() < near_m) continue;
     const auto pixel = k.Project(p);
     if (!pixel || !k.Contains(*pixel)) continue;
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    if (with_normals) {
+      n = cam_from_receiver.linear() * normals_in_receiver[i];
+      // sin(angle between the ray and the surface) = -n . ray (camera at the origin).
+      if (incidence_test && !(-n.dot(p.normalized()) >= min_sine)) continue;
+    }
     const int px = static_cast<int>(std::floor(pixel->x() + 0.5));
     const int py = static_cast<int>(std::floor(pixel->y() + 0.5));
     for (int y = std::max(0, py - r); y <= std::min(buffer.height - 1, py + r) && !visible[i]; ++y) {
       for (int x = std::max(0, px - r); x <= std::min(buffer.width - 1, px + r); ++x) {
-        if (p.z() <= static_cast<double>(buffer.At(x, y)) + options.depth_tolerance_m) {
+        double z = p.z();
+        if (plane_test) {
+          // The ray through the pixel centre, (u, v, 1) scaled by depth, meets
+          // the plane n . (X - p) = 0 at depth n . p / n . (u, v, 1).
+          const Eigen::Vector3d ray((x - k.cx_px) / k.fx_px, (y - k.cy_px) / k.fy_px, 1.0);
+          const double denominator = n.dot(ray);
+          if (std::abs(denominator) > 1e-9) z = n.dot(p) / denominator;
+        }
+        if (z <= static_cast<double>(buffer.At(x, y)) + options.depth_tolerance_m) {
           visible[i] = true;
           break;
         }
@@ -276,183 +266,25 @@ std::vector<bool> VisibleInCamera(const std::vector<Eigen::Vector3d>& points_in_
   return visible;
 }
 
-ReferenceModel ShellModel(const std::vector<Eigen::Vector3d>& full_points, const TriangleMesh& mesh,
-                          const StereoRig& rig, const ReferenceModelOptions& options) {
+ReferenceModel ShellModel(const ReferenceModel& full, const TriangleMesh& mesh, const StereoRig& rig,
+                          const ReferenceModelOptions& options) {
   const Eigen::Isometry3d tanker_from_receiver = ShellTankerFromReceiver(rig, options);
   const auto visible_in = [&](const Camera& camera) {
-    return VisibleInCamera(full_points, mesh, camera.intrinsics,
+    return VisibleInCamera(full.points_in_receiver, full.normals_in_receiver, mesh, camera.intrinsics,
                            camera.tanker_from_camera.inverse() * tanker_from_receiver, rig.near_m, options);
   };
   const std::vector<bool> left = visible_in(rig.left);
-  const std::vector<bool> right = visible_in(rig.right);
-  ReferenceModel shelled{"shelled", {}};
-  for (size_t i = 0; i < full_points.size(); ++i) {
-    if (options.require_both_cameras ? (left[i] && right[i]) : (left[i] || right[i])) {
-      shelled.points_in_receiver.push_back(full_points[i]);
-    }
+  const std::vector<bool> right =
+      options.cameras == ShellCameras::kLeft ? std::vector<bool>(left.size(), true) : visible_in(rig.right);
+  const bool with_normals = !full.normals_in_receiver.empty();
+  ReferenceModel shelled{"shelled", {}, {}};
+  for (size_t i = 0; i < full.points_in_receiver.size(); ++i) {
+    const bool keep = options.cameras == ShellCameras::kEither ? (left[i] || right[i]) : (left[i] && right[i]);
+    if (!keep) continue;
+    shelled.points_in_receiver.push_back(full.points_in_receiver[i]);
+    if (with_normals) shelled.normals_in_receiver.push_back(full.normals_in_receiver[i]);
   }
   return shelled;
-}
-
-void WritePly(const std::filesystem::path& path, const std::vector<Eigen::Vector3d>& points,
-              const std::vector<std::string>& comments) {
-  std::string bytes = "ply\nformat binary_little_endian 1.0\n";
-  for (const std::string& comment : comments) {
-    if (comment.find_first_of("\r\n") != std::string::npos) {
-      throw Error(path.string() + ": PLY comments cannot hold line breaks");
-    }
-    bytes += "comment " + comment + "\n";
-  }
-  bytes += "element vertex " + std::to_string(points.size()) +
-           "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
-  const size_t header_size = bytes.size();
-  bytes.resize(header_size + points.size() * 12);
-  unsigned char* out = reinterpret_cast<unsigned char*>(bytes.data()) + header_size;
-  for (const Eigen::Vector3d& p : points) {
-    for (int c = 0; c < 3; ++c) {
-      const float value = static_cast<float>(p[c]);
-      uint32_t bits;
-      std::memcpy(&bits, &value, 4);
-      for (int byte = 0; byte < 4; ++byte) *out++ = static_cast<unsigned char>(bits >> (8 * byte));
-    }
-  }
-  WriteFileAtomic(path, bytes);
-}
-
-std::vector<Eigen::Vector3d> ReadPly(const std::filesystem::path& path) {
-  const std::string where = path.string();
-  const std::string bytes = ReadFileBytes(path);
-
-  // Header: lines up to and including "end_header".
-  size_t pos = 0;
-  std::string format;
-  std::vector<PlyElement> elements;
-  bool ended = false;
-  for (int line_number = 1; pos < bytes.size(); ++line_number) {
-    const size_t newline = bytes.find('\n', pos);
-    if (newline == std::string::npos) break;
-    std::string line = bytes.substr(pos, newline - pos);
-    pos = newline + 1;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream words(line);
-    std::string keyword;
-    words >> keyword;
-    const std::string at = where + ": header line " + std::to_string(line_number);
-    if (line_number == 1) {
-      if (keyword != "ply") throw Error(where + ": not a PLY file (no 'ply' magic line)");
-      continue;
-    }
-    if (keyword == "format") {
-      std::string version;
-      words >> format >> version;
-      if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian") {
-        throw Error(at + ": unknown format '" + format + "'");
-      }
-    } else if (keyword == "element") {
-      PlyElement element;
-      long long count = -1;
-      words >> element.name >> count;
-      if (element.name.empty() || count < 0 || words.fail()) throw Error(at + ": malformed element line");
-      element.count = static_cast<size_t>(count);
-      elements.push_back(element);
-    } else if (keyword == "property") {
-      if (elements.empty()) throw Error(at + ": property before any element");
-      PlyProperty property;
-      words >> property.type;
-      if (property.type == "list") {
-        std::string count_type;
-        words >> count_type >> property.type;
-        property.list = true;
-      }
-      words >> property.name;
-      property.size = PlyTypeSize(property.type);
-      if (property.name.empty() || property.size == 0) throw Error(at + ": malformed property line");
-      elements.back().properties.push_back(property);
-    } else if (keyword == "end_header") {
-      ended = true;
-      break;
-    } else if (keyword != "comment" && keyword != "obj_info" && !keyword.empty()) {
-      throw Error(at + ": unknown keyword '" + keyword + "'");
-    }
-  }
-  if (!ended) throw Error(where + ": PLY header has no end_header line");
-  if (format.empty()) throw Error(where + ": PLY header has no format line");
-
-  // The vertex element and its x, y, z properties.
-  size_t vertex_element = elements.size();
-  for (size_t e = 0; e < elements.size(); ++e) {
-    if (elements[e].name == "vertex") {
-      vertex_element = e;
-      break;
-    }
-  }
-  if (vertex_element == elements.size()) throw Error(where + ": PLY file has no vertex element");
-  const PlyElement& vertex = elements[vertex_element];
-  std::array<int, 3> xyz = {-1, -1, -1};
-  for (size_t p = 0; p < vertex.properties.size(); ++p) {
-    for (int c = 0; c < 3; ++c) {
-      if (vertex.properties[p].name == std::string(1, static_cast<char>('x' + c))) {
-        xyz[static_cast<size_t>(c)] = static_cast<int>(p);
-      }
-    }
-    if (vertex.properties[p].list) throw Error(where + ": list property in the vertex element is not supported");
-  }
-  if (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0) throw Error(where + ": vertex element lacks x, y or z");
-
-  std::vector<Eigen::Vector3d> points;
-  points.reserve(vertex.count);
-  if (format == "ascii") {
-    std::istringstream data(bytes.substr(pos));
-    std::string line;
-    for (size_t e = 0; e < vertex_element; ++e) {  // earlier elements: one line per item
-      for (size_t i = 0; i < elements[e].count; ++i) {
-        if (!std::getline(data, line)) throw Error(where + ": PLY data ends inside element '" + elements[e].name + "'");
-      }
-    }
-    for (size_t i = 0; i < vertex.count; ++i) {
-      if (!std::getline(data, line)) throw Error(where + ": PLY data ends after " + std::to_string(i) + " vertices");
-      std::istringstream fields(line);
-      std::vector<double> values(vertex.properties.size());
-      for (double& v : values) {
-        if (!(fields >> v)) throw Error(where + ": vertex " + std::to_string(i) + " has a malformed value");
-      }
-      points.emplace_back(values[static_cast<size_t>(xyz[0])], values[static_cast<size_t>(xyz[1])],
-                          values[static_cast<size_t>(xyz[2])]);
-    }
-  } else {
-    const bool swap = (format == "binary_little_endian") != MachineIsLittleEndian();
-    for (size_t e = 0; e < vertex_element; ++e) {  // earlier elements: skip fixed-size items
-      size_t item = 0;
-      for (const PlyProperty& p : elements[e].properties) {
-        if (p.list) throw Error(where + ": list property before the vertex element is not supported");
-        item += static_cast<size_t>(p.size);
-      }
-      pos += item * elements[e].count;
-    }
-    std::vector<size_t> offsets;
-    size_t stride = 0;
-    for (const PlyProperty& p : vertex.properties) {
-      offsets.push_back(stride);
-      stride += static_cast<size_t>(p.size);
-    }
-    if (pos > bytes.size() || (bytes.size() - pos) / stride < vertex.count) {
-      throw Error(where + ": PLY file is truncated (" + std::to_string(vertex.count) + " vertices announced)");
-    }
-    const unsigned char* data = reinterpret_cast<const unsigned char*>(bytes.data()) + pos;
-    for (size_t i = 0; i < vertex.count; ++i) {
-      const unsigned char* item = data + i * stride;
-      Eigen::Vector3d point;
-      for (int c = 0; c < 3; ++c) {
-        const size_t p = static_cast<size_t>(xyz[static_cast<size_t>(c)]);
-        point[c] = PlyBinaryScalar(item + offsets[p], vertex.properties[p], swap);
-      }
-      points.push_back(point);
-    }
-  }
-  for (size_t i = 0; i < points.size(); ++i) {
-    if (!points[i].allFinite()) throw Error(where + ": vertex " + std::to_string(i) + " is not finite");
-  }
-  return points;
 }
 
 }  // namespace aar

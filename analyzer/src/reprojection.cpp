@@ -1,5 +1,6 @@
 #include "aar/analyzer/reprojection.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <opencv2/core/eigen.hpp>
@@ -9,7 +10,8 @@
 namespace aar {
 
 SensedCloud Reproject(const cv::Mat& disparity16, int invalid_value16, const StereoCalibration& calibration,
-                      const Eigen::Isometry3d& tanker_from_left, const ReprojectionOptions& options) {
+                      const Eigen::Isometry3d& tanker_from_left, const ReprojectionOptions& options,
+                      const SubpixelRefiner* refiner) {
   if (disparity16.type() != CV_16SC1) throw Error("re-projection: disparity must be CV_16S (disparity * 16)");
   if (calibration.Q.rows != 4 || calibration.Q.cols != 4 || calibration.R1.rows != 3 || calibration.R1.cols != 3) {
     throw Error("re-projection: calibration needs a 4x4 Q and a 3x3 R1");
@@ -28,20 +30,38 @@ SensedCloud Reproject(const cv::Mat& disparity16, int invalid_value16, const Ste
   left_from_rect_left.linear() = r1.transpose();
   const Eigen::Isometry3d tanker_from_rect_left = tanker_from_left * left_from_rect_left;
 
+  size_t step = options.keep_one_in;
+  if (options.target_points > 0) {
+    const size_t valid = static_cast<size_t>(cv::countNonZero(disparity16 > invalid_value16));
+    step = std::max(step, valid / options.target_points);
+  }
+
   SensedCloud cloud;
   const double min_z = options.min_depth_m, max_z = options.max_depth_m;
+  const auto in_range = [&](const Eigen::Vector3d& p) { return p.allFinite() && p.z() > min_z && !(p.z() > max_z); };
   for (int v = 0; v < disparity16.rows; ++v) {
     const short* row = disparity16.ptr<short>(v);
     for (int u = 0; u < disparity16.cols; ++u) {
       if (row[u] <= invalid_value16) continue;
       const double d = row[u] / 16.0 - options.disparity_offset_px;
       const Eigen::Vector4d h = q * Eigen::Vector4d(u, v, d, 1.0);  // thesis eq. 1
-      const Eigen::Vector3d point_in_rect_left = h.head<3>() / h.w();
-      const double z = point_in_rect_left.z();
-      if (!point_in_rect_left.allFinite() || !(z > min_z) || z > max_z) continue;
-      if (cloud.valid_count++ % options.keep_one_in == 0) {
-        cloud.points_in_tanker.push_back(tanker_from_rect_left * point_in_rect_left);
+      Eigen::Vector3d point_in_rect_left = h.head<3>() / h.w();
+      if (!in_range(point_in_rect_left)) continue;
+      if (cloud.valid_count++ % step != 0) continue;
+      Eigen::Vector3d pixel(u, v, d);
+      if (refiner != nullptr) {
+        const auto refined = refiner->Refine(u, v, d);
+        if (!refined) {
+          ++cloud.refine_rejected;
+          continue;
+        }
+        pixel = Eigen::Vector3d(refined->u_px, v, refined->disparity_px);
+        const Eigen::Vector4d r = q * Eigen::Vector4d(pixel.x(), v, pixel.z(), 1.0);
+        point_in_rect_left = r.head<3>() / r.w();
+        if (!in_range(point_in_rect_left)) continue;
       }
+      cloud.points_in_tanker.push_back(tanker_from_rect_left * point_in_rect_left);
+      cloud.pixels.push_back(pixel);
     }
   }
   cloud.kept_count = cloud.points_in_tanker.size();

@@ -14,6 +14,7 @@
 #include "../test_support.h"
 #include "test_meshes.h"
 #include "aar/analyzer/mesh.h"
+#include "aar/analyzer/ply.h"
 #include "aar/analyzer/reference_model.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
@@ -252,11 +253,11 @@ TEST(ReferenceModel, ShellKeepsFacesTowardTheCameras) {
   TriangleMesh box;
   AddBox(box, Eigen::Vector3d::Zero(), {2.0, 2.0, 2.0});
   const StereoRig rig = TestRig();  // cameras see the +x (front) and +z (top) faces
-  const std::vector<Eigen::Vector3d> full = SampleSurface(box, 30000, 3);
-  const ReferenceModel shelled = ShellModel(full, box, rig);
+  const ReferenceModel full = SampleSurfaceWithNormals(box, 30000, 3);
+  const ReferenceModel shelled = ShellModel(full, box, rig, ReferenceModelOptions::Loose());
   EXPECT_EQ(shelled.name, "shelled");
   FaceCounts counts;
-  for (const Eigen::Vector3d& p : full) ++counts.total[FaceOf(p)];
+  for (const Eigen::Vector3d& p : full.points_in_receiver) ++counts.total[FaceOf(p)];
   for (const Eigen::Vector3d& p : shelled.points_in_receiver) ++counts.kept[FaceOf(p)];
   EXPECT_GT(counts.Fraction(0), 0.95) << "front";
   EXPECT_GT(counts.Fraction(4), 0.95) << "top";
@@ -274,12 +275,39 @@ TEST(ReferenceModel, ShellUsesEitherCameraUnlessBothAreRequired) {
   AddBox(box, Eigen::Vector3d::Zero(), {2.0, 2.0, 2.0});
   StereoRig rig = TestRig();
   rig.right.tanker_from_camera = LookAt({0.0, 0.25, 8.0}, {30.0, 0.0, 8.0});  // looking forward, away
-  const std::vector<Eigen::Vector3d> full = SampleSurface(box, 5000, 4);
-  const ReferenceModel either = ShellModel(full, box, rig);
-  EXPECT_GT(either.points_in_receiver.size(), full.size() / 5);
-  ReferenceModelOptions both;
-  both.require_both_cameras = true;
-  EXPECT_TRUE(ShellModel(full, box, rig, both).points_in_receiver.empty());
+  const ReferenceModel full = SampleSurfaceWithNormals(box, 5000, 4);
+  ReferenceModelOptions options = ReferenceModelOptions::Loose();
+  const ReferenceModel either = ShellModel(full, box, rig, options);
+  EXPECT_GT(either.points_in_receiver.size(), full.points_in_receiver.size() / 5);
+  options.cameras = ShellCameras::kLeft;
+  EXPECT_EQ(ShellModel(full, box, rig, options).points_in_receiver.size(), either.points_in_receiver.size());
+  options.cameras = ShellCameras::kBoth;
+  EXPECT_TRUE(ShellModel(full, box, rig, options).points_in_receiver.empty());
+}
+
+TEST(ReferenceModel, StrictShellHasNoBackFacingOrGrazingPoint) {
+  TriangleMesh box;
+  AddBox(box, Eigen::Vector3d::Zero(), {2.0, 2.0, 2.0});
+  const StereoRig rig = TestRig();  // front face seen at ~75 deg, top at ~15 deg, sides edge-on
+  const ReferenceModel full = SampleSurfaceWithNormals(box, 30000, 3);
+  const ReferenceModelOptions options;  // strict default: both cameras, >= 15 deg
+  const ReferenceModel shelled = ShellModel(full, box, rig, options);
+  ASSERT_EQ(shelled.normals_in_receiver.size(), shelled.points_in_receiver.size());
+  const Eigen::Isometry3d tanker_from_receiver = ShellTankerFromReceiver(rig, options);
+  const double min_sine = std::sin(15.0 * M_PI / 180.0);
+  FaceCounts counts;
+  for (const Eigen::Vector3d& p : full.points_in_receiver) ++counts.total[FaceOf(p)];
+  for (size_t i = 0; i < shelled.points_in_receiver.size(); ++i) {
+    const Eigen::Vector3d p = tanker_from_receiver * shelled.points_in_receiver[i];
+    const Eigen::Vector3d n = tanker_from_receiver.linear() * shelled.normals_in_receiver[i];
+    for (const Camera* camera : {&rig.left, &rig.right}) {
+      const Eigen::Vector3d ray = (p - camera->tanker_from_camera.translation()).normalized();
+      EXPECT_GE(-n.dot(ray), min_sine) << "point " << i << " is back-facing or grazing";
+    }
+    ++counts.kept[FaceOf(shelled.points_in_receiver[i])];
+  }
+  EXPECT_GT(counts.Fraction(0), 0.99) << "front";
+  for (int face : {1, 2, 3, 5}) EXPECT_EQ(counts.kept[face], 0) << "face " << face;
 }
 
 TEST(ReferenceModel, OccluderHidesPointsBehindIt) {
@@ -289,14 +317,14 @@ TEST(ReferenceModel, OccluderHidesPointsBehindIt) {
   const std::vector<Eigen::Vector3d> points = SampleSurface(scene, 2000, 5);
   const Eigen::Isometry3d left_from_receiver =
       rig.left.tanker_from_camera.inverse() * ShellTankerFromReceiver(rig, ReferenceModelOptions{});
-  const auto visible = VisibleInCamera(points, scene, rig.left.intrinsics, left_from_receiver, rig.near_m);
+  const auto visible = VisibleInCamera(points, {}, scene, rig.left.intrinsics, left_from_receiver, rig.near_m);
   size_t seen = 0;
   for (const bool v : visible) seen += v ? 1 : 0;
   EXPECT_GT(seen, 0u);
   // A large wall between the camera and the box (in receiver coordinates, 10 m
   // in front of it) hides everything.
   AddBox(scene, {10.0, 0.0, 0.0}, {0.1, 20.0, 20.0});
-  for (const bool v : VisibleInCamera(points, scene, rig.left.intrinsics, left_from_receiver, rig.near_m)) {
+  for (const bool v : VisibleInCamera(points, {}, scene, rig.left.intrinsics, left_from_receiver, rig.near_m)) {
     EXPECT_FALSE(v);
   }
 }
@@ -305,7 +333,7 @@ TEST(ReferenceModel, PointsOutsideTheImageOrBehindAreNotVisible) {
   TriangleMesh nothing;  // an empty z-buffer: only the frustum matters
   const Intrinsics k;    // 1024 x 768, f = 900
   const std::vector<Eigen::Vector3d> points = {{0, 0, 10}, {0, 0, -10}, {100, 0, 10}, {0, 0, 0.1}};
-  const auto visible = VisibleInCamera(points, nothing, k, Eigen::Isometry3d::Identity(), 0.5);
+  const auto visible = VisibleInCamera(points, {}, nothing, k, Eigen::Isometry3d::Identity(), 0.5);
   EXPECT_EQ(visible, (std::vector<bool>{true, false, false, false}));
 }
 

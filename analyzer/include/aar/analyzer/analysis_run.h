@@ -52,6 +52,7 @@ struct AnalysisRunOptions {
   std::optional<std::filesystem::path> receiver_model;  ///< none = DATASET/receiver.glb
   ReferenceRequest reference;
   CalibrationOptions calibration_options;
+  Preset preset = Preset::kDefault;                     ///< recorded in run.json; `frame` holds its options
   FrameAnalysisOptions frame;
   FrameSelection selection;
   bool progress = true;                                 ///< progress line and per-frame failures on stderr

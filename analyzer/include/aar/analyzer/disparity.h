@@ -34,11 +34,19 @@ struct DisparityOptions {
   int sgbm_p1 = 8 * 9 * 9;        ///< SGBM smoothness penalty for +-1 px changes (8 * block_size^2, OpenCV sample)
   int sgbm_p2 = 32 * 9 * 9;       ///< SGBM smoothness penalty for larger changes (32 * block_size^2)
 
-  /// False (and the reason in *error when given) when a value is out of range.
-  bool IsValid(std::string* error = nullptr) const;
+  /// Throws aar::Error naming the first value out of range.
+  void Check() const;
   /// Value OpenCV writes for pixels without a disparity, in 1/16 px: (min_disparity - 1) * 16.
   int InvalidValue16() const { return (min_disparity - 1) * 16; }
 };
+
+/// The mean error that a matcher's fixed-point rounding adds to its
+/// disparities [px]. StereoBM interpolates the cost minimum in 1/256 px and
+/// converts to its 1/16 px output with (d + 15) >> 4 (OpenCV stereobm.cpp),
+/// which rounds up: for a sub-pixel position spread evenly over the 16 values
+/// of d mod 16, the output exceeds d / 256 by (15 - 7.5) / 256 = 15/512 px
+/// (0.0293 px) on average. StereoSGBM rounds to nearest: 0.
+double MatcherRoundingBiasPx(DisparityAlgorithm algorithm);
 
 /// Rectifies image pairs with one calibration: the undistort-rectify maps of
 /// both cameras are built once (cv::initUndistortRectifyMap with R1/P1 and

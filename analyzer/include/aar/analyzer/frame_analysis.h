@@ -4,13 +4,17 @@
 // reference model with ICP, compare with the sidecar's truth.
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "aar/analyzer/disparity.h"
+#include "aar/analyzer/disparity_cleaning.h"
 #include "aar/analyzer/icp.h"
+#include "aar/analyzer/plane_icp.h"
 #include "aar/analyzer/pose_statistics.h"
+#include "aar/analyzer/reference_model.h"
 #include "aar/analyzer/reprojection.h"
 #include "aar/dataset.h"
 #include "aar/stereo_calibration.h"
@@ -24,25 +28,66 @@ enum class IcpSeed {
 std::string ToString(IcpSeed seed);
 IcpSeed ParseIcpSeed(const std::string& text);
 
+/// Registration algorithm.
+enum class Registration {
+  kPointToPoint,  ///< IcpRegistration: closed-form point-to-point (thesis 3.6)
+  kPointToPlane,  ///< PlaneIcpRegistration: robust, noise-weighted point-to-plane
+};
+std::string ToString(Registration registration);
+Registration ParseRegistration(const std::string& text);
+
+/// Whole-pipeline presets. The struct's defaults are kDefault.
+enum class Preset {
+  kDefault,  ///< the best pipeline measured (docs/analysis.md)
+  kThesis,   ///< Parsons (2017) as closely as its text allows
+};
+std::string ToString(Preset preset);
+Preset ParsePreset(const std::string& text);
+
 struct FrameAnalysisOptions {
-  DisparityOptions disparity;      ///< thesis 3.4: BM, 48 disparities, block 9, speckle filter
-  ReprojectionOptions reprojection;  ///< thesis 3.5: <= 750 m, one point in eight
-  /// Thesis 3.6: point-to-point, 30 iterations; pairs each sensed point with
-  /// its nearest model point (on the CONOPS contact frames this gives 8 cm of
-  /// x error where the other direction gives 36 cm, docs/performance.md).
-  IcpOptions icp = [] {
-    IcpOptions o;
-    o.correspondence = IcpCorrespondence::kSensedToModel;
+  DisparityOptions disparity;        ///< thesis 3.4: BM, 48 disparities, block 9, speckle filter
+  /// Remove the foreground-fattening halo (disparity_cleaning.h); its radius
+  /// is set from the block size (block_size / 2) by ForPreset and the CLI.
+  bool remove_halo = true;
+  HaloRemovalOptions halo;
+  /// Subtract MatcherRoundingBiasPx(algorithm) (StereoBM: 15/512 px) from
+  /// every disparity, on top of reprojection.disparity_offset_px.
+  bool remove_rounding_bias = true;
+  /// Symmetric sub-pixel refinement (subpixel.h). Off by default: on CONOPS
+  /// region C it lowers the disparity RMS (0.122 -> 0.099 px) but not the
+  /// pixel locking, and the registration is worse with it (docs/analysis.md).
+  bool refine_subpixel = false;
+  SubpixelOptions subpixel;
+  /// Re-projection: <= 750 m; about 4000 points (one in eight or more).
+  ReprojectionOptions reprojection = [] {
+    ReprojectionOptions o;
+    o.target_points = 4000;
     return o;
   }();
+  Registration registration = Registration::kPointToPlane;
+  PlaneIcpOptions plane_icp;         ///< for kPointToPlane
+  IcpOptions icp;                    ///< for kPointToPoint (thesis 3.6: 30 iterations)
   IcpSeed seed = IcpSeed::kCentroid;
+  /// When the estimate puts part of the receiver beyond the disparity search
+  /// (near frames), match again with the search widened to cover it.
+  bool widen_disparity_search = true;
+  /// Diagnosis (datasets with --depth): register the ideal cloud, the true
+  /// surface points at the sensed pixels, instead of the stereo cloud.
+  bool register_truth_cloud = false;
   size_t min_sensed_points = 30;   ///< fewer sensed points: the frame is not measured ("receiver out of view")
   /// Registration failed (ICP did not converge onto the receiver) when its
   /// residual RMS exceeds max_icp_rmse_m + 3 sigma_z, where sigma_z =
   /// r^2 disparity_noise_px / (f b) is the stereo depth noise expected at the
   /// estimated range r (f b from Q); such a frame is recorded as not measured.
   double max_icp_rmse_m = 2.0;        ///< residual allowance at zero range [m]
-  double disparity_noise_px = 0.1;    ///< disparity noise used for sigma_z [px] (measured BM RMS 0.12 px)
+  double disparity_noise_px = 0.1;    ///< disparity noise used for sigma_z [px] (a typical block-matching accuracy)
+
+  /// The options of a preset: kDefault = these defaults; kThesis = BM 9/48
+  /// with speckle filter, no halo removal, no rounding correction, no
+  /// sub-pixel refinement, one point in eight, point-to-point ICP pairing
+  /// model points with sensed points, 30 iterations, centroid seed with zero
+  /// attitude, no widened search.
+  static FrameAnalysisOptions ForPreset(Preset preset);
 
   /// Throws aar::Error naming the first invalid field.
   void Check() const;
@@ -51,8 +96,9 @@ struct FrameAnalysisOptions {
 /// Analyzes frames of one dataset with one calibration and one reference model.
 class FrameAnalyzer {
  public:
+  /// The model needs normals for kPointToPlane.
   FrameAnalyzer(const StereoCalibration& calibration, const Eigen::Isometry3d& tanker_from_left,
-                std::vector<Eigen::Vector3d> model_points_in_receiver, const FrameAnalysisOptions& options);
+                const ReferenceModel& model, const FrameAnalysisOptions& options);
 
   /// Analyzes frame `index` of `dataset`. Never throws for a bad frame: a
   /// missing or corrupt image, a malformed sidecar, a hash mismatch against
@@ -68,8 +114,21 @@ class FrameAnalyzer {
   Eigen::Isometry3d tanker_from_left_;
   double focal_times_baseline_px_m_;  // f b = Q(2,3) / Q(3,2)
   Rectifier rectifier_;
-  IcpRegistration registration_;
+  std::vector<Eigen::Vector3d> model_points_;
+  std::unique_ptr<IcpRegistration> point_icp_;
+  std::unique_ptr<PlaneIcpRegistration> plane_icp_;
   FrameAnalysisOptions options_;
+
+  struct Registered {
+    Eigen::Isometry3d tanker_from_receiver;
+    int iterations;
+    bool converged;
+    double rmse_m;
+    size_t inliers;
+  };
+  Registered Register(const std::vector<Eigen::Vector3d>& sensed, const std::optional<Pose>& previous) const;
+  // Largest disparity the model needs at a pose (its nearest point) [px].
+  double ModelMaxDisparityPx(const Eigen::Isometry3d& tanker_from_receiver) const;
 };
 
 }  // namespace aar

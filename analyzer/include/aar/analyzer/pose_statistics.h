@@ -14,6 +14,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "aar/analyzer/stereo_truth.h"
 #include "aar/pose.h"
 
 namespace aar {
@@ -62,12 +63,18 @@ struct FrameResult {
   double icp_rmse_m = 0.0;     ///< IcpResult::rmse_m [m]
   size_t icp_inliers = 0;      ///< IcpResult::num_inliers
   StageTimes times;            ///< stage timings [ms]
+  /// The sensed cloud against the depth truth (datasets with --depth; zero points otherwise).
+  StereoTruthStats stereo_truth;
+
+  /// An estimate exists (ok, or registered but rejected, e.g. by the
+  /// residual test); est_* and err_* are then written even when not ok.
+  bool has_estimate = false;
 
   bool ok() const { return status == "ok"; }
 };
 
 /// The CSV header (one line, no newline). The timing columns ms_* come last
-/// so that `cut -d, -f1-28` drops them for comparisons.
+/// so that `cut -d, -f1-34` drops them for comparisons.
 std::string FrameResultsCsvHeader();
 
 /// Header and one line per frame, in the given order. Fixed decimals
@@ -104,6 +111,11 @@ struct GroupStats {
   double icp_ms_mean = 0.0;          ///< ICP time, mean over ok frames [ms] (timing)
   double icp_ms_std = 0.0;           ///< ICP time, sample standard deviation (n-1) [ms] (timing)
   double total_ms_mean = 0.0;        ///< frame time, mean over all frames of the group [ms] (timing)
+  /// Error of the frames that have an estimate, whatever their status
+  /// (the thesis's convention: a frame whose ICP failed counts with its error).
+  size_t with_estimate = 0;
+  SixDof mean_abs_error_all;
+  StereoTruthStats stereo_truth;     ///< summed over all frames of the group
 };
 
 /// All groups of one reference model, in the fixed order all, A, B, C, 20-60, 60-110.

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
+#include "aar/analyzer/subpixel.h"
 #include "aar/stereo_calibration.h"
 
 namespace aar {
@@ -17,18 +18,23 @@ struct ReprojectionOptions {
   double min_depth_m = 1e-6;   ///< points with depth (z in rect_left) at or below this are dropped (behind the camera) [m]
   double max_depth_m = 750.0;  ///< points deeper than this are dropped (thesis 3.5: background) [m]
   size_t keep_one_in = 8;      ///< decimation: keep valid points 0, k, 2k, ... in row-major order (thesis 3.5: 8); 1 keeps all
-  /// Subtracted from every disparity before eq. 1 [px]. StereoBM's sub-pixel
-  /// estimate reads about 1/32 px high (measured against depth truth on rendered
-  /// receivers: +0.02 to +0.03 px inside the silhouette, docs/performance.md);
-  /// 0 reproduces the thesis's plain re-projection.
-  double disparity_offset_px = 1.0 / 32.0;
+  /// When > 0, the decimation step is raised to floor(valid pixels /
+  /// target_points) when that is larger than keep_one_in, so that a near
+  /// receiver gives about this many points and a far one keeps all of its few.
+  size_t target_points = 0;
+  /// Subtracted from every disparity before eq. 1 (and before sub-pixel
+  /// refinement, as its starting value) [px]. 0 reproduces the thesis's plain
+  /// re-projection; MatcherRoundingBiasPx() is StereoBM's rounding bias.
+  double disparity_offset_px = 0.0;
 };
 
 /// The sensed point cloud of one frame.
 struct SensedCloud {
   std::vector<Eigen::Vector3d> points_in_tanker;  ///< kept points, row-major pixel order [m]
   size_t valid_count = 0;  ///< points that passed the disparity and depth filters, before decimation
-  size_t kept_count = 0;   ///< points_in_tanker.size() = ceil(valid_count / keep_one_in)
+  size_t kept_count = 0;   ///< points_in_tanker.size()
+  size_t refine_rejected = 0;  ///< decimated points the sub-pixel refiner rejected
+  std::vector<Eigen::Vector3d> pixels;  ///< (u, v, disparity) of each kept point in rect_left [px]
 };
 
 /// Re-projects a CV_16S fixed-point disparity map (disparity * 16, as
@@ -44,8 +50,12 @@ struct SensedCloud {
 /// cv::reprojectImageTo3D with handleMissingValues = false, without its float
 /// output image). Dropped: invalid pixels (disparity16 <= invalid_value16),
 /// non-finite results, depth z <= min_depth_m or z > max_depth_m (thesis 3.5).
-/// The survivors are decimated one in keep_one_in, in row-major order.
+/// The survivors are decimated one in keep_one_in (or the target_points
+/// step), in row-major order. With a `refiner`, each kept disparity is then
+/// refined (SubpixelRefiner::Refine; points it rejects are dropped) and the
+/// point re-projected from the refined left column and disparity.
 SensedCloud Reproject(const cv::Mat& disparity16, int invalid_value16, const StereoCalibration& calibration,
-                      const Eigen::Isometry3d& tanker_from_left, const ReprojectionOptions& options);
+                      const Eigen::Isometry3d& tanker_from_left, const ReprojectionOptions& options,
+                      const SubpixelRefiner* refiner = nullptr);
 
 }  // namespace aar

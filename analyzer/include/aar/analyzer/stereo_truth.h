@@ -1,0 +1,69 @@
+#pragma once
+// The sensed cloud measured against the renderer's depth truth (datasets
+// rendered with --depth): the disparity error of every sensed point, by
+// fractional disparity, and the fraction of points that are not on the
+// receiver's surface.
+//
+// The true disparity of a sensed point at rectified left pixel (u, v) is the
+// one the run's calibration implies for the true surface there: the ray of
+// (u, v) (P1, R1) meets the left image at a pixel (M1, no distortion) where the
+// depth image gives the true point; its rectified depth z gives
+// d_true = (Q(2,3) / z - Q(3,3)) / Q(3,2). Depth is interpolated bilinearly
+// where the four neighbouring pixels are all receiver, else taken from the
+// nearest pixel.
+
+#include <array>
+#include <cstddef>
+#include <filesystem>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "aar/stereo_calibration.h"
+
+namespace aar {
+
+/// Left-camera truth images of one frame.
+struct DepthTruth {
+  cv::Mat depth_m;  ///< CV_32F, metres along the left optical axis, 0 where no surface
+  cv::Mat ids;      ///< CV_8U object ids: 0 sky, 1 receiver, 2 tanker, 3 board
+};
+
+/// Reads the depth EXR (channel Z) and the id mask PNG; errors name the file.
+DepthTruth ReadDepthTruth(const std::filesystem::path& depth_exr, const std::filesystem::path& mask_png);
+
+inline constexpr int kReceiverId = 1;
+inline constexpr size_t kFractionBins = 8;  ///< bins of the true disparity's fractional part, width 1/8 px
+
+struct StereoTruthOptions {
+  /// A point on the receiver whose disparity errs by more than this is off
+  /// the surface [px] (at 35 m, 0.5 px is about 1.3 m of depth).
+  double off_surface_px = 0.5;
+};
+
+/// Sums over the sensed points of one frame (or of many: Add).
+struct StereoTruthStats {
+  size_t points = 0;       ///< sensed points compared
+  size_t off_receiver = 0; ///< points whose pixel is not on the receiver in the truth (halo, background)
+  size_t off_surface = 0;  ///< off_receiver plus receiver points beyond off_surface_px
+  size_t on_receiver = 0;  ///< points on the receiver (the disparity statistics use these)
+  double error_sum_px = 0.0;
+  double error_squared_sum_px2 = 0.0;
+  std::array<size_t, kFractionBins> bin_count{};
+  std::array<double, kFractionBins> bin_error_sum_px{};
+
+  double MeanErrorPx() const { return on_receiver ? error_sum_px / static_cast<double>(on_receiver) : 0.0; }
+  double RmsErrorPx() const;
+  double OffSurfaceFraction() const { return points ? static_cast<double>(off_surface) / static_cast<double>(points) : 0.0; }
+  void Add(const StereoTruthStats& other);
+};
+
+/// Compares sensed points (u, v, disparity in rect_left, as SensedCloud::pixels) with the truth.
+/// With `true_points_in_rect_left`, also returns the true point of every
+/// sensed point on the receiver (rect_left frame) [m]: the ideal cloud at the
+/// same pixels, which isolates registration from stereo error.
+StereoTruthStats CompareWithTruth(const std::vector<Eigen::Vector3d>& pixels, const DepthTruth& truth,
+                                  const StereoCalibration& calibration, const StereoTruthOptions& options = {},
+                                  std::vector<Eigen::Vector3d>* true_points_in_rect_left = nullptr);
+
+}  // namespace aar

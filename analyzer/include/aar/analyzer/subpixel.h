@@ -1,0 +1,62 @@
+#pragma once
+// Symmetric sub-pixel disparity refinement.
+//
+// Block matchers fit a parabola to three matching costs around the integer
+// minimum; for SAD-like costs this biases the result towards integers ("pixel
+// locking", Shimizu and Okutomi 2001), and OpenCV's StereoBM then rounds up to
+// 1/16 px. Here each disparity is refined by Gauss-Newton on the zero-mean
+// sum of squared differences of the two rectified images over the matching
+// window, with the shift split symmetrically between them: the left window is
+// sampled at u + delta/2 and the right one at u - d_int - delta/2 around the
+// nearest integer disparity d_int. Both images are then interpolated
+// (linearly) at mirrored fractional offsets, so the smoothing of
+// interpolation is the same in both and its bias cancels, instead of locking
+// the estimate to integers as one-sided interpolation does (the
+// "symmetric" / error-cancelling scheme of stereo and optical-flow
+// refinement). The refined point is re-projected from the left pixel
+// u + delta/2 with disparity d_int + delta.
+
+#include <optional>
+
+#include <opencv2/core.hpp>
+
+namespace aar {
+
+struct SubpixelOptions {
+  int half_window_px = 4;        ///< window (2h+1)^2; 4 = the 9x9 block of the thesis's matcher [px]
+  int max_iterations = 4;        ///< Gauss-Newton steps at most
+  double tolerance_px = 0.002;   ///< stop when a step is smaller [px]
+  double max_correction_px = 1.0;  ///< |delta - start| larger than this: refinement rejected [px]
+  /// Summed squared horizontal gradient over the window below which the
+  /// window has too little texture to refine [grey levels^2 / px^2].
+  double min_gradient_energy = 100.0;
+
+  /// Throws aar::Error naming the first invalid field.
+  void Check() const;
+};
+
+/// A refined disparity: the left-image column it belongs to and its value.
+struct RefinedDisparity {
+  double u_px = 0.0;          ///< left column (rectified) of the point [px]
+  double disparity_px = 0.0;  ///< refined disparity [px]
+  int iterations = 0;
+};
+
+/// Refines disparities of one rectified pair (8-bit gray, same size); the
+/// gradient images are computed once here.
+class SubpixelRefiner {
+ public:
+  SubpixelRefiner(const cv::Mat& rect_left_gray, const cv::Mat& rect_right_gray, const SubpixelOptions& options);
+
+  /// Refines the disparity `disparity_px` of rectified left pixel (u, v);
+  /// nullopt when the window leaves the image, lacks texture, or the estimate
+  /// moves more than max_correction_px (the caller keeps or drops the point).
+  std::optional<RefinedDisparity> Refine(int u, int v, double disparity_px) const;
+
+ private:
+  cv::Mat left_, right_;            // CV_32F intensities
+  cv::Mat left_dx_, right_dx_;      // CV_32F horizontal derivatives
+  SubpixelOptions options_;
+};
+
+}  // namespace aar

@@ -1,0 +1,181 @@
+#include "aar/analyzer/plane_icp.h"
+
+#include <cmath>
+
+#include <Eigen/Cholesky>
+
+#include "aar/analyzer/nearest_cache.h"
+#include "aar/error.h"
+
+namespace aar {
+namespace {
+
+// Per sensed point: the noise model's variances along and across its ray.
+struct SensedNoise {
+  Eigen::Vector3d ray;     // unit viewing ray in the tanker frame
+  double ray_variance;     // sigma_ray^2 [m^2]
+  double lateral_variance; // sigma_lat^2 [m^2]
+};
+
+std::vector<SensedNoise> NoiseOf(const std::vector<Eigen::Vector3d>& sensed, const StereoNoiseGeometry& g,
+                                 const PlaneIcpOptions& o) {
+  std::vector<SensedNoise> noise(sensed.size());
+  for (size_t i = 0; i < sensed.size(); ++i) {
+    const Eigen::Vector3d offset = sensed[i] - g.camera_centre_in_tanker;
+    const double distance = offset.norm();
+    const double depth = std::max(offset.dot(g.optical_axis_in_tanker), 1e-3);
+    const double sigma_ray = depth * distance * o.disparity_noise_px / g.focal_times_baseline_px_m;
+    const double sigma_lat = depth * o.lateral_noise_px / g.focal_px;
+    noise[i] = {offset / distance, sigma_ray * sigma_ray, sigma_lat * sigma_lat};
+  }
+  return noise;
+}
+
+// Normal equations of one Gauss-Newton step in the frame centred on `centre`.
+struct NormalEquations {
+  Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+
+  // Residual r = n . (p - s) of a model point p (tanker frame, normal n) and a
+  // sensed point s; Jacobian [ (s - centre) x n, n ] for the perturbation
+  // p -> centre + (I + [w]x)(p - centre) + v (normal rotated with it).
+  void Add(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eigen::Vector3d& s, const SensedNoise& noise,
+           const Eigen::Vector3d& centre, const PlaneIcpOptions& o, double& sum_squared) {
+    const double r = n.dot(p - s);
+    const double along = n.dot(noise.ray);
+    const double variance = o.surface_noise_m * o.surface_noise_m + along * along * noise.ray_variance +
+                            (1.0 - along * along) * noise.lateral_variance;
+    const double scaled = r * r / (o.robust_scale * o.robust_scale * variance);
+    const double w = 1.0 / (variance * (1.0 + scaled));  // Cauchy
+    Eigen::Matrix<double, 6, 1> j;
+    j.head<3>() = (s - centre).cross(n);
+    j.tail<3>() = n;
+    h.noalias() += w * j * j.transpose();
+    g.noalias() += w * r * j;
+    sum_squared += r * r;
+  }
+};
+
+void CheckPoints(const std::vector<Eigen::Vector3d>& points, const char* what) {
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite()) {
+      throw Error(std::string("point-to-plane ICP: ") + what + " " + std::to_string(i) + " is not finite");
+    }
+  }
+}
+
+}  // namespace
+
+std::string ToString(PlanePairing pairing) {
+  return pairing == PlanePairing::kSensedToModel ? "sensed_to_model" : "symmetric";
+}
+
+PlanePairing ParsePlanePairing(const std::string& text) {
+  if (text == "sensed_to_model") return PlanePairing::kSensedToModel;
+  if (text == "symmetric") return PlanePairing::kSymmetric;
+  throw Error("point-to-plane pairing '" + text + "': expected sensed_to_model or symmetric");
+}
+
+void PlaneIcpOptions::Check() const {
+  if (max_iterations < 0) throw Error("point-to-plane ICP: max_iterations must be >= 0");
+  if (!(translation_tolerance_m >= 0.0)) throw Error("point-to-plane ICP: translation_tolerance_m must be >= 0");
+  if (!(rotation_tolerance_rad >= 0.0)) throw Error("point-to-plane ICP: rotation_tolerance_rad must be >= 0");
+  if (!(max_correspondence_distance_m > 0.0)) {
+    throw Error("point-to-plane ICP: max_correspondence_distance_m must be > 0");
+  }
+  if (!(robust_scale > 0.0)) throw Error("point-to-plane ICP: robust_scale must be > 0");
+  if (!(disparity_noise_px >= 0.0) || !(lateral_noise_px >= 0.0) || !(surface_noise_m > 0.0)) {
+    throw Error("point-to-plane ICP: noise model needs disparity/lateral noise >= 0 and surface noise > 0");
+  }
+  if (kdtree_leaf_size < 1) throw Error("point-to-plane ICP: kdtree_leaf_size must be >= 1");
+}
+
+PlaneIcpRegistration::PlaneIcpRegistration(std::vector<Eigen::Vector3d> model_points_in_receiver,
+                                           std::vector<Eigen::Vector3d> model_normals_in_receiver,
+                                           const StereoNoiseGeometry& geometry, const PlaneIcpOptions& options)
+    : model_(std::move(model_points_in_receiver)),
+      normals_(std::move(model_normals_in_receiver)),
+      geometry_(geometry),
+      options_(options) {
+  options_.Check();
+  if (model_.empty()) throw Error("point-to-plane ICP: the reference model is empty");
+  if (normals_.size() != model_.size()) throw Error("point-to-plane ICP: the model needs one normal per point");
+  CheckPoints(model_, "model point");
+  CheckPoints(normals_, "model normal");
+  if (!(geometry_.focal_px > 0.0) || !(geometry_.focal_times_baseline_px_m > 0.0)) {
+    throw Error("point-to-plane ICP: the noise geometry needs positive f and f b");
+  }
+  model_tree_ = std::make_unique<KdTree3d>(model_, options_.kdtree_leaf_size);
+}
+
+PlaneIcpRegistration::~PlaneIcpRegistration() = default;
+
+PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
+                                              const Eigen::Isometry3d& initial_tanker_from_receiver) const {
+  if (sensed.empty()) throw Error("point-to-plane ICP: the sensed point cloud is empty");
+  CheckPoints(sensed, "sensed point");
+  const PlaneIcpOptions& o = options_;
+  const bool symmetric = o.pairing == PlanePairing::kSymmetric;
+  const std::vector<SensedNoise> noise = NoiseOf(sensed, geometry_, o);
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& s : sensed) centre += s;
+  centre /= static_cast<double>(sensed.size());
+
+  CachedNearest to_model(*model_tree_, sensed.size(), true, o.max_correspondence_distance_m);
+  std::unique_ptr<KdTree3d> sensed_tree;
+  std::unique_ptr<CachedNearest> to_sensed;
+  if (symmetric) {
+    sensed_tree = std::make_unique<KdTree3d>(sensed, o.kdtree_leaf_size);
+    to_sensed = std::make_unique<CachedNearest>(*sensed_tree, model_.size(), true, o.max_correspondence_distance_m);
+  }
+
+  PlaneIcpResult result;
+  result.tanker_from_receiver = initial_tanker_from_receiver;
+  for (int k = 0;; ++k) {
+    const Eigen::Isometry3d& tanker_from_receiver = result.tanker_from_receiver;
+    const Eigen::Isometry3d receiver_from_tanker = tanker_from_receiver.inverse();
+    const Eigen::Matrix3d rotation = tanker_from_receiver.linear();
+    NormalEquations equations;
+    double sum_squared = 0.0;
+    size_t inliers = 0;
+    for (size_t i = 0; i < sensed.size(); ++i) {
+      const auto [j, squared] = to_model.Find(i, receiver_from_tanker * sensed[i]);
+      if (j == CachedNearest::kNone) continue;
+      equations.Add(tanker_from_receiver * model_[j], rotation * normals_[j], sensed[i], noise[i], centre, o,
+                    sum_squared);
+      ++inliers;
+    }
+    if (symmetric) {
+      double unused = 0.0;
+      for (size_t j = 0; j < model_.size(); ++j) {
+        const Eigen::Vector3d p = tanker_from_receiver * model_[j];
+        const auto [i, squared] = to_sensed->Find(j, p);
+        if (i == CachedNearest::kNone) continue;
+        equations.Add(p, rotation * normals_[j], sensed[i], noise[i], centre, o, unused);
+      }
+    }
+    const double rmse = inliers > 0 ? std::sqrt(sum_squared / static_cast<double>(inliers)) : 0.0;
+    if (k == 0) result.initial_rmse_m = rmse;
+    result.num_inliers = inliers;
+    result.rmse_m = rmse;
+    result.fitness = static_cast<double>(inliers) / static_cast<double>(sensed.size());
+    if (result.converged || k == o.max_iterations || inliers < 6) break;
+
+    const Eigen::Matrix<double, 6, 1> step = -equations.h.ldlt().solve(equations.g);
+    if (!step.allFinite()) break;
+    const Eigen::Vector3d w = step.head<3>();
+    const Eigen::Vector3d v = step.tail<3>();
+    const double angle = w.norm();
+    Eigen::Isometry3d increment = Eigen::Isometry3d::Identity();
+    if (angle > 0.0) increment.linear() = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+    // p -> centre + R_w (p - centre) + v
+    increment.translation() = centre + v - increment.linear() * centre;
+    result.tanker_from_receiver = increment * result.tanker_from_receiver;
+    ++result.iterations;
+    // One more association after convergence gives the final statistics.
+    result.converged = v.norm() < o.translation_tolerance_m && angle < o.rotation_tolerance_rad;
+  }
+  return result;
+}
+
+}  // namespace aar

@@ -1,0 +1,245 @@
+#include "aar/analyzer/ply.h"
+
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <sstream>
+
+#include "aar/error.h"
+#include "aar/file_io.h"
+
+namespace aar {
+namespace {
+
+struct PlyProperty {
+  std::string name;
+  std::string type;
+  int size = 0;       // bytes of a binary scalar
+  bool list = false;  // list properties are only allowed in skipped ascii elements
+};
+
+struct PlyElement {
+  std::string name;
+  size_t count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+int PlyTypeSize(const std::string& type) {
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" || type == "float32") {
+    return 4;
+  }
+  if (type == "double" || type == "float64") return 8;
+  return 0;
+}
+
+// One binary scalar as a double; `swap` reverses the bytes (file endianness
+// differs from the machine's).
+double PlyBinaryScalar(const unsigned char* p, const PlyProperty& property, bool swap) {
+  unsigned char b[8];
+  for (int i = 0; i < property.size; ++i) b[i] = swap ? p[property.size - 1 - i] : p[i];
+  const std::string& t = property.type;
+  if (t == "char" || t == "int8") return static_cast<double>(static_cast<int8_t>(b[0]));
+  if (t == "uchar" || t == "uint8") return static_cast<double>(b[0]);
+  if (t == "short" || t == "int16") {
+    int16_t v;
+    std::memcpy(&v, b, 2);
+    return v;
+  }
+  if (t == "ushort" || t == "uint16") {
+    uint16_t v;
+    std::memcpy(&v, b, 2);
+    return v;
+  }
+  if (t == "int" || t == "int32") {
+    int32_t v;
+    std::memcpy(&v, b, 4);
+    return v;
+  }
+  if (t == "uint" || t == "uint32") {
+    uint32_t v;
+    std::memcpy(&v, b, 4);
+    return v;
+  }
+  if (t == "float" || t == "float32") {
+    float v;
+    std::memcpy(&v, b, 4);
+    return v;
+  }
+  double v;
+  std::memcpy(&v, b, 8);
+  return v;
+}
+
+bool MachineIsLittleEndian() {
+  const uint16_t probe = 1;
+  unsigned char first;
+  std::memcpy(&first, &probe, 1);
+  return first == 1;
+}
+
+}  // namespace
+
+void WritePly(const std::filesystem::path& path, const std::vector<Eigen::Vector3d>& points,
+              const std::vector<std::string>& comments) {
+  std::string bytes = "ply\nformat binary_little_endian 1.0\n";
+  for (const std::string& comment : comments) {
+    if (comment.find_first_of("\r\n") != std::string::npos) {
+      throw Error(path.string() + ": PLY comments cannot hold line breaks");
+    }
+    bytes += "comment " + comment + "\n";
+  }
+  bytes += "element vertex " + std::to_string(points.size()) +
+           "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  const size_t header_size = bytes.size();
+  bytes.resize(header_size + points.size() * 12);
+  unsigned char* out = reinterpret_cast<unsigned char*>(bytes.data()) + header_size;
+  for (const Eigen::Vector3d& p : points) {
+    for (int c = 0; c < 3; ++c) {
+      const float value = static_cast<float>(p[c]);
+      uint32_t bits;
+      std::memcpy(&bits, &value, 4);
+      for (int byte = 0; byte < 4; ++byte) *out++ = static_cast<unsigned char>(bits >> (8 * byte));
+    }
+  }
+  WriteFileAtomic(path, bytes);
+}
+
+std::vector<Eigen::Vector3d> ReadPly(const std::filesystem::path& path) {
+  const std::string where = path.string();
+  const std::string bytes = ReadFileBytes(path);
+
+  // Header: lines up to and including "end_header".
+  size_t pos = 0;
+  std::string format;
+  std::vector<PlyElement> elements;
+  bool ended = false;
+  for (int line_number = 1; pos < bytes.size(); ++line_number) {
+    const size_t newline = bytes.find('\n', pos);
+    if (newline == std::string::npos) break;
+    std::string line = bytes.substr(pos, newline - pos);
+    pos = newline + 1;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    const std::string at = where + ": header line " + std::to_string(line_number);
+    if (line_number == 1) {
+      if (keyword != "ply") throw Error(where + ": not a PLY file (no 'ply' magic line)");
+      continue;
+    }
+    if (keyword == "format") {
+      std::string version;
+      words >> format >> version;
+      if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian") {
+        throw Error(at + ": unknown format '" + format + "'");
+      }
+    } else if (keyword == "element") {
+      PlyElement element;
+      long long count = -1;
+      words >> element.name >> count;
+      if (element.name.empty() || count < 0 || words.fail()) throw Error(at + ": malformed element line");
+      element.count = static_cast<size_t>(count);
+      elements.push_back(element);
+    } else if (keyword == "property") {
+      if (elements.empty()) throw Error(at + ": property before any element");
+      PlyProperty property;
+      words >> property.type;
+      if (property.type == "list") {
+        std::string count_type;
+        words >> count_type >> property.type;
+        property.list = true;
+      }
+      words >> property.name;
+      property.size = PlyTypeSize(property.type);
+      if (property.name.empty() || property.size == 0) throw Error(at + ": malformed property line");
+      elements.back().properties.push_back(property);
+    } else if (keyword == "end_header") {
+      ended = true;
+      break;
+    } else if (keyword != "comment" && keyword != "obj_info" && !keyword.empty()) {
+      throw Error(at + ": unknown keyword '" + keyword + "'");
+    }
+  }
+  if (!ended) throw Error(where + ": PLY header has no end_header line");
+  if (format.empty()) throw Error(where + ": PLY header has no format line");
+
+  // The vertex element and its x, y, z properties.
+  size_t vertex_element = elements.size();
+  for (size_t e = 0; e < elements.size(); ++e) {
+    if (elements[e].name == "vertex") {
+      vertex_element = e;
+      break;
+    }
+  }
+  if (vertex_element == elements.size()) throw Error(where + ": PLY file has no vertex element");
+  const PlyElement& vertex = elements[vertex_element];
+  std::array<int, 3> xyz = {-1, -1, -1};
+  for (size_t p = 0; p < vertex.properties.size(); ++p) {
+    for (int c = 0; c < 3; ++c) {
+      if (vertex.properties[p].name == std::string(1, static_cast<char>('x' + c))) {
+        xyz[static_cast<size_t>(c)] = static_cast<int>(p);
+      }
+    }
+    if (vertex.properties[p].list) throw Error(where + ": list property in the vertex element is not supported");
+  }
+  if (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0) throw Error(where + ": vertex element lacks x, y or z");
+
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(vertex.count);
+  if (format == "ascii") {
+    std::istringstream data(bytes.substr(pos));
+    std::string line;
+    for (size_t e = 0; e < vertex_element; ++e) {  // earlier elements: one line per item
+      for (size_t i = 0; i < elements[e].count; ++i) {
+        if (!std::getline(data, line)) throw Error(where + ": PLY data ends inside element '" + elements[e].name + "'");
+      }
+    }
+    for (size_t i = 0; i < vertex.count; ++i) {
+      if (!std::getline(data, line)) throw Error(where + ": PLY data ends after " + std::to_string(i) + " vertices");
+      std::istringstream fields(line);
+      std::vector<double> values(vertex.properties.size());
+      for (double& v : values) {
+        if (!(fields >> v)) throw Error(where + ": vertex " + std::to_string(i) + " has a malformed value");
+      }
+      points.emplace_back(values[static_cast<size_t>(xyz[0])], values[static_cast<size_t>(xyz[1])],
+                          values[static_cast<size_t>(xyz[2])]);
+    }
+  } else {
+    const bool swap = (format == "binary_little_endian") != MachineIsLittleEndian();
+    for (size_t e = 0; e < vertex_element; ++e) {  // earlier elements: skip fixed-size items
+      size_t item = 0;
+      for (const PlyProperty& p : elements[e].properties) {
+        if (p.list) throw Error(where + ": list property before the vertex element is not supported");
+        item += static_cast<size_t>(p.size);
+      }
+      pos += item * elements[e].count;
+    }
+    std::vector<size_t> offsets;
+    size_t stride = 0;
+    for (const PlyProperty& p : vertex.properties) {
+      offsets.push_back(stride);
+      stride += static_cast<size_t>(p.size);
+    }
+    if (pos > bytes.size() || (bytes.size() - pos) / stride < vertex.count) {
+      throw Error(where + ": PLY file is truncated (" + std::to_string(vertex.count) + " vertices announced)");
+    }
+    const unsigned char* data = reinterpret_cast<const unsigned char*>(bytes.data()) + pos;
+    for (size_t i = 0; i < vertex.count; ++i) {
+      const unsigned char* item = data + i * stride;
+      Eigen::Vector3d point;
+      for (int c = 0; c < 3; ++c) {
+        const size_t p = static_cast<size_t>(xyz[static_cast<size_t>(c)]);
+        point[c] = PlyBinaryScalar(item + offsets[p], vertex.properties[p], swap);
+      }
+      points.push_back(point);
+    }
+  }
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite()) throw Error(where + ": vertex " + std::to_string(i) + " is not finite");
+  }
+  return points;
+}
+
+}  // namespace aar
