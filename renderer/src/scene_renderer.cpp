@@ -5,7 +5,9 @@
 #include <cstring>
 
 #include "aar/error.h"
+#include "aar/renderer/pipeline_builder.h"
 #include "aar/renderer/projection.h"
+#include "aar/renderer/render_target.h"
 #include "spirv/depth_frag.h"
 #include "spirv/scene_frag.h"
 #include "spirv/scene_vert.h"
@@ -15,7 +17,6 @@ namespace {
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // linear colour, averaged by the resolve
 constexpr VkFormat kTruthFormat = VK_FORMAT_R32G32_SFLOAT;        // depth [m], object id
-constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr uint32_t kMaxTextures = 64;
 
 struct PushConstants {
@@ -55,15 +56,6 @@ float HalfToFloat(uint16_t h) {
   return f;
 }
 
-VkShaderModule CreateShader(VkDevice device, const uint32_t* code, size_t bytes) {
-  VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  info.codeSize = bytes;
-  info.pCode = code;
-  VkShaderModule module = VK_NULL_HANDLE;
-  VkCheck(vkCreateShaderModule(device, &info, nullptr, &module), "vkCreateShaderModule");
-  return module;
-}
-
 }  // namespace
 
 struct SceneRenderer::GpuModel {
@@ -81,22 +73,18 @@ struct SceneRenderer::GpuModel {
 };
 
 struct SceneRenderer::Target {
-  VkDevice device = VK_NULL_HANDLE;
-  int samples = 1;
-  bool ground_truth = false;
-  GpuImage color;    // multisampled when samples > 1
-  GpuImage depth;
-  GpuImage resolve;  // single-sample copy source when samples > 1
-  VkRenderPass render_pass = VK_NULL_HANDLE;
-  VkFramebuffer framebuffer = VK_NULL_HANDLE;
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  std::array<float, 3> background{};  // a resolved sky pixel as this target produces it
-  const GpuImage& Output() const { return samples > 1 ? resolve : color; }
+  Target(VulkanContext& context, uint32_t width, uint32_t height, int samples, VkFormat color_format)
+      : frame(context, width, height, samples, color_format), device(context.device()) {}
   ~Target() {
     if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
-    if (framebuffer) vkDestroyFramebuffer(device, framebuffer, nullptr);
-    if (render_pass) vkDestroyRenderPass(device, render_pass, nullptr);
   }
+  Target(const Target&) = delete;
+  Target& operator=(const Target&) = delete;
+
+  RenderTarget frame;
+  VkDevice device = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  std::array<float, 3> background{};  // a resolved sky pixel as this target produces it
 };
 
 SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, const SceneRendererOptions& options)
@@ -138,9 +126,9 @@ SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, cons
   sampler.maxLod = VK_LOD_CLAMP_NONE;
   VkCheck(vkCreateSampler(device, &sampler, nullptr, &sampler_), "vkCreateSampler");
 
-  vert_ = CreateShader(device, kSpirv_scene_vert, sizeof(kSpirv_scene_vert));
-  frag_ = CreateShader(device, kSpirv_scene_frag, sizeof(kSpirv_scene_frag));
-  depth_frag_ = CreateShader(device, kSpirv_depth_frag, sizeof(kSpirv_depth_frag));
+  vert_ = CreateShaderModule(device, kSpirv_scene_vert, sizeof(kSpirv_scene_vert));
+  frag_ = CreateShaderModule(device, kSpirv_scene_frag, sizeof(kSpirv_scene_frag));
+  depth_frag_ = CreateShaderModule(device, kSpirv_depth_frag, sizeof(kSpirv_depth_frag));
 
   readback_ = GpuBuffer(context_, static_cast<VkDeviceSize>(width_) * height_ * 8, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                         /*host_visible=*/true);
@@ -250,133 +238,16 @@ int SceneRenderer::AddModel(const SceneModel& model) {
 SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) {
   auto& slot = targets_[{samples, ground_truth}];
   if (slot) return *slot;
-  auto t = std::make_unique<Target>();
-  t->device = context_.device();
-  t->samples = samples;
-  t->ground_truth = ground_truth;
-  const VkFormat color_format = ground_truth ? kTruthFormat : kColorFormat;
-  const auto sample_bits = static_cast<VkSampleCountFlagBits>(samples);
   const uint32_t w = static_cast<uint32_t>(width_), h = static_cast<uint32_t>(height_);
-  GpuImageDesc color{w, h, 1, color_format, sample_bits,
-                     static_cast<VkImageUsageFlags>(VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
-                                                    (samples == 1 ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0)),
-                     VK_IMAGE_ASPECT_COLOR_BIT};
-  t->color = GpuImage(context_, color);
-  t->depth = GpuImage(context_, {w, h, 1, kDepthFormat, sample_bits, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                                 VK_IMAGE_ASPECT_DEPTH_BIT});
-  if (samples > 1) {
-    t->resolve = GpuImage(context_, {w, h, 1, color_format, VK_SAMPLE_COUNT_1_BIT,
-                                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                                     VK_IMAGE_ASPECT_COLOR_BIT});
-  }
-
-  std::vector<VkAttachmentDescription> attachments(samples > 1 ? 3 : 2);
-  attachments[0] = {0, color_format, sample_bits, VK_ATTACHMENT_LOAD_OP_CLEAR,
-                    samples > 1 ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
-                    VK_ATTACHMENT_LOAD_OP_DONT_CARE, VK_ATTACHMENT_STORE_OP_DONT_CARE, VK_IMAGE_LAYOUT_UNDEFINED,
-                    samples > 1 ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
-  attachments[1] = {0, kDepthFormat, sample_bits, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_DONT_CARE,
-                    VK_ATTACHMENT_LOAD_OP_DONT_CARE, VK_ATTACHMENT_STORE_OP_DONT_CARE, VK_IMAGE_LAYOUT_UNDEFINED,
-                    VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-  if (samples > 1) {
-    attachments[2] = {0, color_format, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-                      VK_ATTACHMENT_STORE_OP_STORE, VK_ATTACHMENT_LOAD_OP_DONT_CARE, VK_ATTACHMENT_STORE_OP_DONT_CARE,
-                      VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
-  }
-  VkAttachmentReference color_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-  VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-  VkAttachmentReference resolve_ref{2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-  VkSubpassDescription subpass{};
-  subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-  subpass.colorAttachmentCount = 1;
-  subpass.pColorAttachments = &color_ref;
-  subpass.pDepthStencilAttachment = &depth_ref;
-  subpass.pResolveAttachments = samples > 1 ? &resolve_ref : nullptr;
-  VkSubpassDependency dependency{};
-  dependency.srcSubpass = 0;
-  dependency.dstSubpass = VK_SUBPASS_EXTERNAL;
-  dependency.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-  dependency.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-  dependency.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-  dependency.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-  VkRenderPassCreateInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-  rp.attachmentCount = static_cast<uint32_t>(attachments.size());
-  rp.pAttachments = attachments.data();
-  rp.subpassCount = 1;
-  rp.pSubpasses = &subpass;
-  rp.dependencyCount = 1;
-  rp.pDependencies = &dependency;
-  VkCheck(vkCreateRenderPass(t->device, &rp, nullptr, &t->render_pass), "vkCreateRenderPass");
-
-  std::vector<VkImageView> views = {t->color.view(), t->depth.view()};
-  if (samples > 1) views.push_back(t->resolve.view());
-  VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-  fb.renderPass = t->render_pass;
-  fb.attachmentCount = static_cast<uint32_t>(views.size());
-  fb.pAttachments = views.data();
-  fb.width = w;
-  fb.height = h;
-  fb.layers = 1;
-  VkCheck(vkCreateFramebuffer(t->device, &fb, nullptr, &t->framebuffer), "vkCreateFramebuffer");
-
-  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-  stages[0].module = vert_;
-  stages[0].pName = "main";
-  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-  stages[1].module = ground_truth ? depth_frag_ : frag_;
-  stages[1].pName = "main";
-  VkVertexInputBindingDescription binding{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX};
-  VkVertexInputAttributeDescription attributes[3] = {
-      {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, position)},
-      {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, normal)},
-      {2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv)}};
-  VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-  vertex_input.vertexBindingDescriptionCount = 1;
-  vertex_input.pVertexBindingDescriptions = &binding;
-  vertex_input.vertexAttributeDescriptionCount = 3;
-  vertex_input.pVertexAttributeDescriptions = attributes;
-  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-  VkViewport viewport{0.0f, 0.0f, static_cast<float>(w), static_cast<float>(h), 0.0f, 1.0f};
-  VkRect2D scissor{{0, 0}, {w, h}};
-  VkPipelineViewportStateCreateInfo viewport_state{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  viewport_state.viewportCount = 1;
-  viewport_state.pViewports = &viewport;
-  viewport_state.scissorCount = 1;
-  viewport_state.pScissors = &scissor;
-  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  raster.polygonMode = VK_POLYGON_MODE_FILL;
-  raster.cullMode = VK_CULL_MODE_NONE;  // models are double-sided
-  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-  raster.lineWidth = 1.0f;
-  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-  multisample.rasterizationSamples = sample_bits;
-  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  depth.depthTestEnable = VK_TRUE;
-  depth.depthWriteEnable = VK_TRUE;
-  depth.depthCompareOp = VK_COMPARE_OP_GREATER;  // reversed depth
-  VkPipelineColorBlendAttachmentState blend_attachment{};
-  blend_attachment.colorWriteMask =
-      VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  blend.attachmentCount = 1;
-  blend.pAttachments = &blend_attachment;
-  VkGraphicsPipelineCreateInfo pipeline{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  pipeline.stageCount = 2;
-  pipeline.pStages = stages;
-  pipeline.pVertexInputState = &vertex_input;
-  pipeline.pInputAssemblyState = &assembly;
-  pipeline.pViewportState = &viewport_state;
-  pipeline.pRasterizationState = &raster;
-  pipeline.pMultisampleState = &multisample;
-  pipeline.pDepthStencilState = &depth;
-  pipeline.pColorBlendState = &blend;
-  pipeline.layout = pipeline_layout_;
-  pipeline.renderPass = t->render_pass;
-  VkCheck(vkCreateGraphicsPipelines(t->device, VK_NULL_HANDLE, 1, &pipeline, nullptr, &t->pipeline),
-          "vkCreateGraphicsPipelines");
+  auto t = std::make_unique<Target>(context_, w, h, samples, ground_truth ? kTruthFormat : kColorFormat);
+  PipelineBuilder builder;
+  builder.vertex_shader = vert_;
+  builder.fragment_shader = ground_truth ? depth_frag_ : frag_;
+  builder.layout = pipeline_layout_;
+  builder.samples = static_cast<VkSampleCountFlagBits>(samples);
+  builder.width = w;
+  builder.height = h;
+  t->pipeline = builder.Build(t->device, t->frame.render_pass());
   slot = std::move(t);
   if (!ground_truth) {
     // Sky pixels outside the render area are filled with this value, read
@@ -400,8 +271,8 @@ void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Mat
   }
   clears[1].depthStencil = {0.0f, 0};  // reversed depth: 0 is infinitely far
   VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-  begin.renderPass = target.render_pass;
-  begin.framebuffer = target.framebuffer;
+  begin.renderPass = target.frame.render_pass();
+  begin.framebuffer = target.frame.framebuffer();
   begin.renderArea = {{area.x0, area.y0}, {static_cast<uint32_t>(area.width()), static_cast<uint32_t>(area.height())}};
   begin.clearValueCount = 2;
   begin.pClearValues = clears;
@@ -442,7 +313,7 @@ void SceneRenderer::ReadBack(const Target& target, const PixelRect& area) {
     copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     copy.imageOffset = {area.x0, area.y0, 0};
     copy.imageExtent = {static_cast<uint32_t>(area.width()), static_cast<uint32_t>(area.height()), 1};
-    vkCmdCopyImageToBuffer(cmd, target.Output().image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer(), 1,
+    vkCmdCopyImageToBuffer(cmd, target.frame.Output().image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer(), 1,
                            &copy);
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
