@@ -30,32 +30,6 @@ double MillisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-float HalfToFloat(uint16_t h) {
-  const uint32_t sign = (h & 0x8000u) << 16;
-  uint32_t exponent = (h >> 10) & 0x1f;
-  uint32_t mantissa = h & 0x3ffu;
-  uint32_t bits;
-  if (exponent == 0) {
-    if (mantissa == 0) {
-      bits = sign;
-    } else {  // subnormal: normalise
-      exponent = 127 - 15 + 1;
-      while ((mantissa & 0x400u) == 0) {
-        mantissa <<= 1;
-        --exponent;
-      }
-      bits = sign | (exponent << 23) | ((mantissa & 0x3ffu) << 13);
-    }
-  } else if (exponent == 31) {
-    bits = sign | 0x7f800000u | (mantissa << 13);
-  } else {
-    bits = sign | ((exponent + 127 - 15) << 23) | (mantissa << 13);
-  }
-  float f;
-  std::memcpy(&f, &bits, 4);
-  return f;
-}
-
 }  // namespace
 
 struct SceneRenderer::GpuModel {
@@ -255,8 +229,8 @@ SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) 
     const PixelRect corner{0, 0, 1, 1};
     context_.SubmitAndWait([&](VkCommandBuffer cmd) { Record(cmd, *slot, Eigen::Matrix4d::Identity(), {}, false, corner); });
     ReadBack(*slot, corner);
-    const uint16_t* half = static_cast<const uint16_t*>(readback_.mapped());
-    for (int c = 0; c < 3; ++c) slot->background[c] = HalfToFloat(half[c]);
+    const auto* half = static_cast<const Eigen::half*>(readback_.mapped());
+    for (int c = 0; c < 3; ++c) slot->background[c] = static_cast<float>(half[c]);
   }
   return *slot;
 }
@@ -357,9 +331,9 @@ LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, cons
     if (timings) timings->render_ms += MillisecondsSince(start);
     start = std::chrono::steady_clock::now();
     ReadBack(target, area);
-    const uint16_t* half = static_cast<const uint16_t*>(readback_.mapped());
+    const auto* half = static_cast<const Eigen::half*>(readback_.mapped());
     for (size_t i = 0; i < sum.size() / 3; ++i) {
-      for (int c = 0; c < 3; ++c) sum[i * 3 + c] += weight * HalfToFloat(half[i * 4 + c]);
+      for (int c = 0; c < 3; ++c) sum[i * 3 + c] += weight * static_cast<float>(half[i * 4 + c]);
     }
     if (timings) timings->readback_ms += MillisecondsSince(start);
   }
