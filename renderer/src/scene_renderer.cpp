@@ -2,7 +2,12 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
+
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
 
 #include "aar/error.h"
 #include "aar/renderer/pipeline_builder.h"
@@ -19,11 +24,15 @@ constexpr VkFormat kColorFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // linear colo
 constexpr VkFormat kTruthFormat = VK_FORMAT_R32G32_SFLOAT;        // depth [m], object id
 constexpr uint32_t kMaxTextures = 64;
 
+// The push-constant block of shaders/scene.vert, scene.frag and depth.frag,
+// member for member (std430 offsets 0, 64, 112; no padding).
 struct PushConstants {
-  float clip_from_object[16];            // column-major
-  float tanker_from_object_rows[3][4];   // rotation rows
-  float base_color_factor[4];
+  glm::mat4 clip_from_object;            // column-major, as Eigen's
+  glm::vec4 tanker_from_object_rows[3];  // rotation rows (xyz; w unused, 0)
+  glm::vec4 base_color_factor;           // linear RGBA; .a carries the object id in the ground-truth pass
 };
+static_assert(offsetof(PushConstants, tanker_from_object_rows) == 64 && offsetof(PushConstants, base_color_factor) == 112,
+              "push constants must match the GLSL block's layout");
 static_assert(sizeof(PushConstants) == 128, "push constants must fit the guaranteed 128 bytes");
 
 double MillisecondsSince(std::chrono::steady_clock::time_point start) {
@@ -258,18 +267,16 @@ void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Mat
     if (model.draws.empty()) continue;
     PushConstants pc{};
     const Eigen::Matrix4f clip_from_object = (clip_from_tanker * item.tanker_from_object.matrix()).cast<float>();
-    std::memcpy(pc.clip_from_object, clip_from_object.data(), sizeof(pc.clip_from_object));
-    const Eigen::Matrix3d r = item.tanker_from_object.linear();
-    for (int row = 0; row < 3; ++row) {
-      for (int c = 0; c < 3; ++c) pc.tanker_from_object_rows[row][c] = static_cast<float>(r(row, c));
-    }
+    pc.clip_from_object = glm::make_mat4(clip_from_object.data());
+    const Eigen::Matrix3f r = item.tanker_from_object.linear().cast<float>();
+    for (int row = 0; row < 3; ++row) pc.tanker_from_object_rows[row] = glm::vec4(r(row, 0), r(row, 1), r(row, 2), 0.0f);
     const VkDeviceSize zero = 0;
     VkBuffer vertex_buffer = model.vertices.buffer();
     vkCmdBindVertexBuffers(cmd, 0, 1, &vertex_buffer, &zero);
     vkCmdBindIndexBuffer(cmd, model.indices.buffer(), 0, VK_INDEX_TYPE_UINT32);
     for (const GpuModel::Draw& draw : model.draws) {
-      std::memcpy(pc.base_color_factor, draw.base_color_factor.data(), sizeof(pc.base_color_factor));
-      if (ground_truth) pc.base_color_factor[3] = item.object_id;
+      pc.base_color_factor = glm::make_vec4(draw.base_color_factor.data());
+      if (ground_truth) pc.base_color_factor.a = item.object_id;
       vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_layout_, 0, 1,
                               &texture_sets_[draw.texture_set], 0, nullptr);
       vkCmdPushConstants(cmd, pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
