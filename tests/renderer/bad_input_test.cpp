@@ -1,5 +1,5 @@
 // Bad input to aar-render: one clear message naming the file (and line), a
-// non-zero exit, and nothing written.
+// non-zero exit, and nothing written; and its command line (help, usage errors).
 
 #include <gtest/gtest.h>
 
@@ -85,6 +85,41 @@ TEST(RenderBadOutput, UnwritableOutputFolderFailsCleanly) {
   EXPECT_NE(result.exit_code, 0);
   EXPECT_NE(result.output.find("a-file/out: cannot create output folder"), std::string::npos) << result.output;
   EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+}
+
+// The command table: the top-level help lists every subcommand with its
+// one-line description, a subcommand's help lists its flags, and a missing or
+// unknown subcommand is a usage error.
+TEST(RenderCommandLine, HelpListsSubcommandsAndTheirFlags) {
+  const std::string render = test::BinaryPath("renderer/aar-render").string();
+  const test::CommandResult top = RunCommand(render + " --help");
+  EXPECT_EQ(top.exit_code, 0) << top.output;
+  for (const char* line : {"render                      render a flight path",
+                           "calib                       render the calibration board",
+                           "finalize                    recompute manifest.json",
+                           "devices                     list the Vulkan devices",
+                           "bench                       time stereo pairs per second"}) {
+    EXPECT_NE(top.output.find(line), std::string::npos) << line << "\n" << top.output;
+  }
+  const test::CommandResult sub = RunCommand(render + " render --help");
+  EXPECT_EQ(sub.exit_code, 0) << sub.output;
+  EXPECT_NE(sub.output.find("Usage: " + render + " render [OPTIONS] output"), std::string::npos) << sub.output;
+  for (const char* flag : {"--rig", "--flight-path", "--receiver", "--tanker", "--depth", "--msaa", "--anisotropy",
+                           "--frames", "--shard", "--device", "--no-progress"}) {
+    EXPECT_NE(sub.output.find(flag), std::string::npos) << flag << "\n" << sub.output;
+  }
+  const test::CommandResult bench = RunCommand(render + " bench --help");
+  EXPECT_NE(bench.output.find("--levels"), std::string::npos) << bench.output;
+  EXPECT_EQ(bench.output.find("--board"), std::string::npos) << bench.output;
+}
+
+TEST(RenderCommandLine, MissingOrUnknownSubcommandIsAUsageError) {
+  const std::string render = test::BinaryPath("renderer/aar-render").string();
+  for (const std::string args : {"", " bogus"}) {
+    const test::CommandResult result = RunCommand(render + args);
+    EXPECT_NE(result.exit_code, 0) << args;
+    EXPECT_NE(result.output.find("A subcommand is required"), std::string::npos) << result.output;
+  }
 }
 
 }  // namespace
