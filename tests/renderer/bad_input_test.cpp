@@ -23,6 +23,15 @@ struct BadInputCase {
 
 class RenderBadInput : public ::testing::TestWithParam<BadInputCase> {};
 
+// A triangle whose POSITION accessor (3 x VEC3 float, 36 bytes) needs more
+// than its 12-byte buffer view holds.
+const char* const kBadAccessorGltf =
+    R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],)"
+    R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+    R"("buffers":[{"byteLength":12,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAA"}],)"
+    R"("bufferViews":[{"buffer":0,"byteLength":12}],)"
+    R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[0,0,0]}]})";
+
 TEST_P(RenderBadInput, FailsWithOneClearMessageAndWritesNothing) {
   const BadInputCase& c = GetParam();
   TempDir dir("bad-" + c.name);
@@ -32,6 +41,7 @@ TEST_P(RenderBadInput, FailsWithOneClearMessageAndWritesNothing) {
     WriteFileAtomic(csv_path, c.csv);
   }
   WriteFileAtomic(dir / "corrupt.glb", "glTF this is not a binary glTF file");
+  WriteFileAtomic(dir / "bad-accessor.gltf", kBadAccessorGltf);
   WriteFileAtomic(dir / "a-file", "x");
   std::string flags = c.extra_flags;
   for (const auto& [key, value] : {std::pair<std::string, std::string>{"@DIR@", dir.path().string()}}) {
@@ -57,6 +67,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         BadInputCase{"missing-gltf", "", "--receiver @DIR@/missing.glb", "", "missing.glb: model file not found"},
         BadInputCase{"corrupt-gltf", "", "--receiver @DIR@/corrupt.glb", "", "corrupt.glb: not a valid glTF"},
+        BadInputCase{"bad-accessor", "", "--receiver @DIR@/bad-accessor.gltf", "",
+                     "bad-accessor.gltf: accessor 0 reads past the end of its buffer"},
         BadInputCase{"wrong-header", "t,x,y,z,r,p,yaw\n0,1,2,3,0,0,0\n", "", "", "path.csv:1: wrong header"},
         BadInputCase{"nan", kHeader + "0,-47,0,-19,0,0,0\n0.5,nan,0,-19,0,0,0\n", "", "",
                      "path.csv:3: field x_m: 'nan' is not a finite number"},
