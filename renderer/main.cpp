@@ -1,11 +1,15 @@
 // aar-render: headless Vulkan stereo renderer for AAR research datasets.
-// A thin table of subcommands; the work lives in aar_renderer.
+// A table of subcommands, one RunFoo(argc, argv) each (argv[0] is
+// "aar-render foo"): it parses its own flags, validates them and calls
+// aar_renderer, where the work lives.
 
 #include <cstdio>
-#include <cstdlib>
+#include <cstring>
 #include <filesystem>
-#include <iostream>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <unistd.h>
 
@@ -19,32 +23,71 @@
 
 namespace {
 
-struct CommonFlags {
+constexpr const char* kDescription =
+    "aar-render: renders the tanker's stereo cameras looking at a receiver aircraft, headless with Vulkan, "
+    "into a self-describing dataset folder (docs/dataset-format.md).";
+
+/// One subcommand: its name, the one-line description `aar-render --help` lists, and its entry point.
+struct Command {
+  const char* name;
+  const char* description;
+  int (*run)(int argc, char** argv);
+};
+
+int RunRender(int argc, char** argv);
+int RunCalib(int argc, char** argv);
+int RunFinalize(int argc, char** argv);
+int RunDevices(int argc, char** argv);
+int RunBench(int argc, char** argv);
+
+const Command kCommands[] = {
+    {"render", "render a flight path: one stereo pair and truth sidecar per sample", RunRender},
+    {"calib", "render the calibration board at 12 poses into DATASET/calib/", RunCalib},
+    {"finalize", "recompute manifest.json's file list (after sharded runs)", RunFinalize},
+    {"devices", "list the Vulkan devices and their native MSAA counts", RunDevices},
+    {"bench", "time stereo pairs per second per MSAA level (render, readback, encode, write), last pairs of the path",
+     RunBench},
+};
+
+const Command& CommandNamed(const char* name) {
+  for (const Command& command : kCommands) {
+    if (std::strcmp(command.name, name) == 0) return command;
+  }
+  throw aar::Error(std::string("no subcommand ") + name);
+}
+
+/// The parser of one subcommand; a repeated flag: the last wins.
+void ConfigureApp(CLI::App& app) {
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+}
+
+/// Flags shared by render, calib and bench; the defaults are RenderJobOptions'.
+struct JobFlags {
   aar::RenderJobOptions job;
   std::string frames;
   std::string shard;
 };
 
-void AddCommonFlags(CLI::App* cmd, CommonFlags& f, bool calib) {
-  cmd->add_option("--rig", f.job.rig, "camera rig JSON")->capture_default_str();
+void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
+  cmd.add_option("--rig", f.job.rig, "camera rig JSON")->capture_default_str();
   if (calib) {
-    cmd->add_option("--board", f.job.board_model, "calibration board glTF")->capture_default_str();
+    cmd.add_option("--board", f.job.board_model, "calibration board glTF")->capture_default_str();
   } else {
-    cmd->add_option("--flight-path", f.job.flight_path, "flight-path CSV (time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg)")
+    cmd.add_option("--flight-path", f.job.flight_path, "flight-path CSV (time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg)")
         ->capture_default_str();
-    cmd->add_option("--receiver", f.job.receiver_model, "receiver glTF")->capture_default_str();
-    cmd->add_option("--tanker", f.job.tanker_model, "tanker glTF")->capture_default_str();
-    cmd->add_flag("--depth", f.job.depth, "also write left-camera ground-truth depth (EXR, metres)");
+    cmd.add_option("--receiver", f.job.receiver_model, "receiver glTF")->capture_default_str();
+    cmd.add_option("--tanker", f.job.tanker_model, "tanker glTF")->capture_default_str();
+    cmd.add_flag("--depth", f.job.depth, "also write left-camera ground-truth depth (EXR, metres)");
   }
-  cmd->add_option("--msaa", f.job.msaa, "samples per pixel: 1, 4, 8, 16 or 32 (composed when not native)")
+  cmd.add_option("--msaa", f.job.msaa, "samples per pixel: 1, 4, 8, 16 or 32 (composed when not native)")
       ->capture_default_str();
-  cmd->add_option("--anisotropy", f.job.anisotropy, "texture anisotropic filtering, 1 (trilinear) to 16")
+  cmd.add_option("--anisotropy", f.job.anisotropy, "texture anisotropic filtering, 1 (trilinear) to 16")
       ->capture_default_str();
-  cmd->add_option("--frames", f.frames, "half-open range a:b of frame indices (e.g. 0:100, 250:)");
-  cmd->add_option("--shard", f.shard,
-                  "render frames i with i % N == K (K/N); defaults to SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT");
-  cmd->add_option("--device", f.job.device, "Vulkan device name substring (default: lavapipe, else the first)");
-  cmd->add_flag("--no-progress", [&f](int64_t) { f.job.progress = false; }, "no progress line on stderr");
+  cmd.add_option("--frames", f.frames, "half-open range a:b of frame indices (e.g. 0:100, 250:)");
+  cmd.add_option("--shard", f.shard,
+                 "render frames i with i % N == K (K/N); defaults to SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT");
+  cmd.add_option("--device", f.job.device, "Vulkan device name substring (default: lavapipe, else the first)");
+  cmd.add_flag("--no-progress", [&f](int64_t) { f.job.progress = false; }, "no progress line on stderr");
 }
 
 void Report(const aar::RenderJobResult& r, const std::filesystem::path& out) {
@@ -62,13 +105,72 @@ void Report(const aar::RenderJobResult& r, const std::filesystem::path& out) {
                                             "shards, then `aar-render finalize`)");
 }
 
+// render and calib: one dataset folder, the shared flags, one job.
+int RunJob(int argc, char** argv, bool calib) {
+  const Command& command = CommandNamed(calib ? "calib" : "render");
+  CLI::App app{command.description};
+  ConfigureApp(app);
+  JobFlags flags;
+  app.add_option("output", flags.job.output, calib ? "dataset folder (created if needed)"
+                                                   : "dataset folder (created; re-running resumes)")
+      ->required();
+  AddJobFlags(app, flags, calib);
+  CLI11_PARSE(app, argc, argv);
+  flags.job.selection = aar::ParseFrameSelection(flags.frames, flags.shard);
+  const aar::RenderJobResult result = calib ? aar::RenderCalibrationJob(flags.job) : aar::RenderFlightPathJob(flags.job);
+  Report(result, flags.job.output);
+  return 0;
+}
+
+int RunRender(int argc, char** argv) { return RunJob(argc, argv, false); }
+
+int RunCalib(int argc, char** argv) { return RunJob(argc, argv, true); }
+
+int RunFinalize(int argc, char** argv) {
+  CLI::App app{CommandNamed("finalize").description};
+  ConfigureApp(app);
+  std::filesystem::path dataset;
+  app.add_option("dataset", dataset, "dataset folder")->required()->check(CLI::ExistingDirectory);
+  CLI11_PARSE(app, argc, argv);
+  const bool complete = aar::FinalizeManifest(dataset);
+  std::fprintf(stderr, "%s: manifest %s\n", dataset.c_str(), complete ? "complete" : "incomplete (frames missing)");
+  return complete ? 0 : 3;
+}
+
+int RunDevices(int argc, char** argv) {
+  CLI::App app{CommandNamed("devices").description};
+  ConfigureApp(app);
+  CLI11_PARSE(app, argc, argv);
+  for (const aar::DeviceInfo& d : aar::VulkanContext::ListDevices()) {
+    std::ostringstream counts;
+    for (int c : d.color_sample_counts) counts << (counts.tellp() > 0 ? "," : "") << c;
+    std::printf("%s | %s | %s | Vulkan %s | MSAA native %s | standard sample locations %s\n", d.name.c_str(),
+                d.driver_name.c_str(), d.driver_info.c_str(), d.api_version.c_str(), counts.str().c_str(),
+                d.standard_sample_locations ? "yes" : "no");
+  }
+  return 0;
+}
+
 // Renders the last `pairs` samples once per level into a scratch folder and
 // prints a Markdown table of per-pair stage times.
-void RunBench(aar::RenderJobOptions job, const std::vector<int>& levels, size_t pairs) {
+int RunBench(int argc, char** argv) {
+  CLI::App app{CommandNamed("bench").description};
+  ConfigureApp(app);
+  JobFlags flags;
+  std::vector<int> levels = {1, 4, 16};
+  size_t pairs = 8;
+  app.add_option("--levels", levels, "MSAA levels to time")->delimiter(',')->capture_default_str();
+  app.add_option("--pairs", pairs, "pairs per level (the last ones of the flight path: receiver largest)")
+      ->capture_default_str();
+  AddJobFlags(app, flags, false);
+  CLI11_PARSE(app, argc, argv);
+
+  aar::RenderJobOptions job = flags.job;
   const size_t count = aar::ReadFlightPath(job.flight_path).size();
   job.selection.begin = count > pairs ? count - pairs : 0;
   job.progress = false;
-  const std::filesystem::path root = job.output;
+  const std::filesystem::path root =
+      std::filesystem::temp_directory_path() / ("aar-render-bench-" + std::to_string(::getpid()));
   std::printf("| MSAA | method | pairs | render ms | readback ms | encode ms | write ms | pairs/s |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
   for (int level : levels) {
@@ -84,67 +186,35 @@ void RunBench(aar::RenderJobOptions job, const std::vector<int>& levels, size_t 
     std::fflush(stdout);
   }
   std::filesystem::remove_all(root);
+  return 0;
 }
+
+// No known subcommand: CLI11 prints the top-level help (`--help`) or the
+// usual usage error (none given, or an unknown one).
+int RunTopLevel(int argc, char** argv) {
+  CLI::App app{kDescription};
+  app.require_subcommand(1);
+  for (const Command& command : kCommands) app.add_subcommand(command.name, command.description);
+  CLI11_PARSE(app, argc, argv);
+  return 0;
+}
+
+bool IsHelpFlag(const char* arg) { return std::strcmp(arg, "-h") == 0 || std::strcmp(arg, "--help") == 0; }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{
-      "aar-render: renders the tanker's stereo cameras looking at a receiver aircraft, headless with Vulkan, "
-      "into a self-describing dataset folder (docs/dataset-format.md)."};
-  app.require_subcommand(1);
-  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);  // a repeated flag: the last wins
-
-  CommonFlags render_flags;
-  CLI::App* render = app.add_subcommand("render", "render a flight path: one stereo pair and truth sidecar per sample");
-  render->add_option("output", render_flags.job.output, "dataset folder (created; re-running resumes)")->required();
-  AddCommonFlags(render, render_flags, false);
-
-  CommonFlags calib_flags;
-  CLI::App* calib = app.add_subcommand("calib", "render the calibration board at 12 poses into DATASET/calib/");
-  calib->add_option("output", calib_flags.job.output, "dataset folder (created if needed)")->required();
-  AddCommonFlags(calib, calib_flags, true);
-
-  std::filesystem::path finalize_dir;
-  CLI::App* finalize = app.add_subcommand("finalize", "recompute manifest.json's file list (after sharded runs)");
-  finalize->add_option("dataset", finalize_dir, "dataset folder")->required()->check(CLI::ExistingDirectory);
-
-  CLI::App* devices = app.add_subcommand("devices", "list the Vulkan devices and their native MSAA counts");
-
-  CommonFlags bench_flags;
-  std::vector<int> bench_levels = {1, 4, 16};
-  size_t bench_pairs = 8;
-  CLI::App* bench = app.add_subcommand(
-      "bench", "time stereo pairs per second per MSAA level (render, readback, encode, write), last pairs of the path");
-  bench->add_option("--levels", bench_levels, "MSAA levels to time")->delimiter(',')->capture_default_str();
-  bench->add_option("--pairs", bench_pairs, "pairs per level (the last ones of the flight path: receiver largest)")
-      ->capture_default_str();
-  AddCommonFlags(bench, bench_flags, false);
-  bench_flags.job.output = std::filesystem::temp_directory_path() / ("aar-render-bench-" + std::to_string(::getpid()));
-
-  CLI11_PARSE(app, argc, argv);
+  // `aar-render --help foo` is `aar-render foo --help`.
+  if (argc == 3 && IsHelpFlag(argv[1])) std::swap(argv[1], argv[2]);
   try {
-    if (render->parsed() || calib->parsed()) {
-      CommonFlags& f = render->parsed() ? render_flags : calib_flags;
-      f.job.selection = aar::ParseFrameSelection(f.frames, f.shard);
-      const aar::RenderJobResult result =
-          render->parsed() ? aar::RenderFlightPathJob(f.job) : aar::RenderCalibrationJob(f.job);
-      Report(result, f.job.output);
-    } else if (finalize->parsed()) {
-      const bool complete = aar::FinalizeManifest(finalize_dir);
-      std::fprintf(stderr, "%s: manifest %s\n", finalize_dir.c_str(), complete ? "complete" : "incomplete (frames missing)");
-      return complete ? 0 : 3;
-    } else if (bench->parsed()) {
-      RunBench(bench_flags.job, bench_levels, bench_pairs);
-    } else if (devices->parsed()) {
-      for (const aar::DeviceInfo& d : aar::VulkanContext::ListDevices()) {
-        std::ostringstream counts;
-        for (int c : d.color_sample_counts) counts << (counts.tellp() > 0 ? "," : "") << c;
-        std::printf("%s | %s | %s | Vulkan %s | MSAA native %s | standard sample locations %s\n", d.name.c_str(),
-                    d.driver_name.c_str(), d.driver_info.c_str(), d.api_version.c_str(), counts.str().c_str(),
-                    d.standard_sample_locations ? "yes" : "no");
-      }
+    for (const Command& command : kCommands) {
+      if (argc < 2 || std::strcmp(argv[1], command.name) != 0) continue;
+      // The subcommand sees "aar-render foo" as its program name, for its usage line.
+      std::string program = std::string(argv[0]) + " " + command.name;
+      argv[1] = program.data();
+      return command.run(argc - 1, argv + 1);
     }
+    return RunTopLevel(argc, argv);
   } catch (const aar::Error& e) {
     std::fprintf(stderr, "aar-render: error: %s\n", e.what());
     return 1;
@@ -152,5 +222,4 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "aar-render: internal error: %s\n", e.what());
     return 2;
   }
-  return 0;
 }

@@ -38,21 +38,21 @@ constexpr int kTailSpan = 36, kTailChord = 40, kTailCap = 5;
 
 constexpr int kGutter = 6;  // texels of padding around every atlas island
 
-double deg_to_rad(double d) { return d * std::numbers::pi / 180.0; }
+double DegToRad(double d) { return d * std::numbers::pi / 180.0; }
 
 /// Mean aerodynamic chord of the trapezoidal planform (centre line to tip):
 /// its length, span station and the station of its quarter chord.
 struct MeanAerodynamicChord {
   double length, span_station, quarter_chord_station;
 };
-MeanAerodynamicChord mean_aerodynamic_chord(double root_le_station, double tan_le_sweep) {
+MeanAerodynamicChord ComputeMeanAerodynamicChord(double root_le_station, double tan_le_sweep) {
   const double taper = kWingTipChord / kWingRootChord;
   const double mac = 2.0 / 3.0 * kWingRootChord * (1 + taper + taper * taper) / (1 + taper);
   const double y_mac = kSemispan / 3.0 * (1 + 2 * taper) / (1 + taper);
   return {mac, y_mac, root_le_station + y_mac * tan_le_sweep + 0.25 * mac};
 }
 
-BodyTables fuselage_tables() {
+BodyTables FuselageTables() {
   // Pointed nose rising to a sloped windscreen (2.45-3.1 m), constant cabin
   // section 1.46 m wide x 1.64 m high, tail cone sweeping up to the tip.
   const std::vector<double> s = {0.00, 0.12, 0.40, 0.85, 1.40, 2.00, 2.45, 2.80, 3.10,
@@ -69,7 +69,7 @@ BodyTables fuselage_tables() {
       2.2};
 }
 
-BodyTables nacelle_tables() {
+BodyTables NacelleTables() {
   // Spinner stub (propeller removed), cowling with a deep lower half holding
   // the gear well, tapering tail above the wing trailing edge. Heights are
   // relative to the propeller axis.
@@ -84,10 +84,10 @@ BodyTables nacelle_tables() {
 
 }  // namespace
 
-C12Airframe make_c12_airframe() {
+C12Airframe MakeC12Airframe() {
   const double tan_le_sweep = (kWingRootChord - kWingTipChord) / (4.0 * kSemispan);  // straight quarter chord
   const double wing_root_le_station = kWingQuarterChordStation - 0.25 * kWingRootChord;
-  const MeanAerodynamicChord mac = mean_aerodynamic_chord(wing_root_le_station, tan_le_sweep);
+  const MeanAerodynamicChord mac = ComputeMeanAerodynamicChord(wing_root_le_station, tan_le_sweep);
   const double ref = mac.quarter_chord_station;
   auto x_of = [ref](double station) { return ref - station; };
 
@@ -117,7 +117,7 @@ C12Airframe make_c12_airframe() {
   const LiftingSurface fin_surface(fin);
 
   LiftingSurfaceSpec stab;
-  stab.root_leading_edge = fin_surface.leading_edge(fin.semispan);  // sits on the fin tip
+  stab.root_leading_edge = fin_surface.LeadingEdge(fin.semispan);  // sits on the fin tip
   stab.semispan = 2.80;
   stab.root_chord = fin.tip_chord;
   stab.tip_chord = 0.80;
@@ -127,7 +127,7 @@ C12Airframe make_c12_airframe() {
   stab.mirrored = true;
   stab.cap_m = 0.05;
 
-  const double wing_z_at_nacelle = kWingRootZ + kNacelleY * std::tan(deg_to_rad(kWingDihedralDeg));
+  const double wing_z_at_nacelle = kWingRootZ + kNacelleY * std::tan(DegToRad(kWingDihedralDeg));
   const double nacelle_axis_z = wing_z_at_nacelle + 0.10;
   const double nacelle_nose_x = x_of(kNacelleNoseStation);
 
@@ -136,17 +136,17 @@ C12Airframe make_c12_airframe() {
       mac.length,
       mac.span_station,
       kNacelleY,
-      Body(fuselage_tables(), Vec3(x_of(0.0), 0.0, 0.0), kLength),
+      Body(FuselageTables(), Vec3(x_of(0.0), 0.0, 0.0), kLength),
       LiftingSurface(wing),
-      Body(nacelle_tables(), Vec3(nacelle_nose_x, kNacelleY, nacelle_axis_z), kNacelleLength),
-      Body(nacelle_tables(), Vec3(nacelle_nose_x, -kNacelleY, nacelle_axis_z), kNacelleLength),
+      Body(NacelleTables(), Vec3(nacelle_nose_x, kNacelleY, nacelle_axis_z), kNacelleLength),
+      Body(NacelleTables(), Vec3(nacelle_nose_x, -kNacelleY, nacelle_axis_z), kNacelleLength),
       fin_surface,
       LiftingSurface(stab),
   };
 }
 
-SceneModel build_c12(const C12Options& options, C12Info* info) {
-  const C12Airframe airframe = make_c12_airframe();
+SceneModel BuildC12(const C12Options& options, C12Info* info) {
+  const C12Airframe airframe = MakeC12Airframe();
   const C12Livery livery(airframe, options.seed);
 
   struct Part {
@@ -155,23 +155,23 @@ SceneModel build_c12(const C12Options& options, C12Info* info) {
     PaintFn paint;
   };
   const std::vector<Part> parts = {
-      {"fuselage", airframe.fuselage.patch(kFuselageRings, kFuselageAround),
-       [&](double u, double v) { return livery.fuselage(u, v); }},
-      {"wing", airframe.wing.patch(kWingSpan, kWingChord, kWingCap),
-       [&](double u, double v) { return livery.wing(u, v); }},
-      {"nacelle_left", airframe.nacelle_left.patch(kNacelleRings, kNacelleAround),
-       [&](double u, double v) { return livery.nacelle(airframe.nacelle_left, u, v); }},
-      {"nacelle_right", airframe.nacelle_right.patch(kNacelleRings, kNacelleAround),
-       [&](double u, double v) { return livery.nacelle(airframe.nacelle_right, u, v); }},
-      {"fin", airframe.fin.patch(kTailSpan, kTailChord, kTailCap),
-       [&](double u, double v) { return livery.fin(u, v); }},
-      {"stabilizer", airframe.stabilizer.patch(kTailSpan * 2, kTailChord, kTailCap),
-       [&](double u, double v) { return livery.stabilizer(u, v); }},
+      {"fuselage", airframe.fuselage.MakePatch(kFuselageRings, kFuselageAround),
+       [&](double u, double v) { return livery.Fuselage(u, v); }},
+      {"wing", airframe.wing.MakePatch(kWingSpan, kWingChord, kWingCap),
+       [&](double u, double v) { return livery.Wing(u, v); }},
+      {"nacelle_left", airframe.nacelle_left.MakePatch(kNacelleRings, kNacelleAround),
+       [&](double u, double v) { return livery.Nacelle(airframe.nacelle_left, u, v); }},
+      {"nacelle_right", airframe.nacelle_right.MakePatch(kNacelleRings, kNacelleAround),
+       [&](double u, double v) { return livery.Nacelle(airframe.nacelle_right, u, v); }},
+      {"fin", airframe.fin.MakePatch(kTailSpan, kTailChord, kTailCap),
+       [&](double u, double v) { return livery.Fin(u, v); }},
+      {"stabilizer", airframe.stabilizer.MakePatch(kTailSpan * 2, kTailChord, kTailCap),
+       [&](double u, double v) { return livery.Stabilizer(u, v); }},
   };
 
   std::vector<const Patch*> patches;
   for (const Part& part : parts) patches.push_back(&part.patch);
-  const AtlasLayout layout = pack_atlas(patches, options.atlas_size, options.atlas_size, kGutter);
+  const AtlasLayout layout = PackAtlas(patches, options.atlas_size, options.atlas_size, kGutter);
   if (info != nullptr) {
     *info = C12Info{airframe.reference_station, airframe.mac, airframe.mac_span_station, layout.texels_per_m};
   }
@@ -181,10 +181,10 @@ SceneModel build_c12(const C12Options& options, C12Info* info) {
   scene.name = "c12";
   scene.materials.push_back(Material{"c12_livery", {1.0, 1.0, 1.0, 1.0}, true});
   for (std::size_t i = 0; i < parts.size(); ++i) {
-    bake(atlas, layout.rects[i], kGutter, parts[i].patch.periodic_v, parts[i].paint);
-    scene.nodes.push_back(Node{parts[i].name, {Primitive{tessellate(parts[i].patch, &layout.rects[i]), 0}}});
+    Bake(atlas, layout.rects[i], kGutter, parts[i].patch.periodic_v, parts[i].paint);
+    scene.nodes.push_back(Node{parts[i].name, {Primitive{Tessellate(parts[i].patch, &layout.rects[i]), 0}}});
   }
-  scene.texture_png = encode_png_rgb(atlas.width(), atlas.height(), atlas.pixels());
+  scene.texture_png = EncodePngRgb(atlas.width(), atlas.height(), atlas.pixels());
   return scene;
 }
 

@@ -26,6 +26,6 @@ struct C12Info {
 /// stabilizer, all sharing one textured material. Origin = reference point
 /// (fuselage centre line, quarter chord of the wing's mean aerodynamic chord,
 /// cabin centre-line height).
-SceneModel build_c12(const C12Options& options, C12Info* info);
+SceneModel BuildC12(const C12Options& options, C12Info* info);
 
 }  // namespace aar::scenes

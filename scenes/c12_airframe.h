@@ -19,9 +19,9 @@ struct C12Airframe {
   LiftingSurface fin;
   LiftingSurface stabilizer;
 
-  double station_of_x(double x) const { return reference_station - x; }
+  double StationOfX(double x) const { return reference_station - x; }
 };
 
-C12Airframe make_c12_airframe();
+C12Airframe MakeC12Airframe();
 
 }  // namespace aar::scenes

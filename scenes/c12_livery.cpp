@@ -48,17 +48,17 @@ constexpr double kFrameSpacing = 0.26;
 constexpr double kCabinWindowFirst = 4.45, kCabinWindowPitch = 0.62;
 constexpr int kCabinWindows = 7;
 
-bool near(double d, double half_width = kLineHalfWidth) { return std::abs(d) < half_width; }
+bool IsNear(double d, double half_width = kLineHalfWidth) { return std::abs(d) < half_width; }
 
 /// Rivet dot on a row: `along` measured along the row, `across` from the row's centre line.
-bool rivet(double along, double across, double pitch = kRivetPitch) {
-  return std::abs(across) < kRivetRadius && distance_to_grid(along, pitch) < kRivetRadius;
+bool OnRivet(double along, double across, double pitch = kRivetPitch) {
+  return std::abs(across) < kRivetRadius && DistanceToGrid(along, pitch) < kRivetRadius;
 }
 
 /// Outline of a rounded rectangle centred at (0, 0): true on a band of `width` inside its edge.
-bool outline(double x, double y, double hx, double hy, double r, double width = 2 * kLineHalfWidth) {
-  return in_rounded_rect(x, y, hx, hy, r) &&
-         !in_rounded_rect(x, y, hx - width, hy - width, std::max(r - width, 0.0));
+bool OnOutline(double x, double y, double hx, double hy, double r, double width = 2 * kLineHalfWidth) {
+  return InRoundedRect(x, y, hx, hy, r) &&
+         !InRoundedRect(x, y, hx - width, hy - width, std::max(r - width, 0.0));
 }
 
 }  // namespace
@@ -79,7 +79,7 @@ C12Livery::C12Livery(const C12Airframe& airframe, std::uint64_t seed)
   }
 }
 
-Color C12Livery::weather(const Color& paint, const Vec3& p, double strength) const {
+Color C12Livery::Weather(const Color& paint, const Vec3& p, double strength) const {
   double luminance = 1.0;
   for (std::size_t k = 0; k < octaves_.size(); ++k) {
     luminance += strength * kOctaveAmplitude[k] *
@@ -97,13 +97,13 @@ Color C12Livery::weather(const Color& paint, const Vec3& p, double strength) con
   return c;
 }
 
-double C12Livery::panel_shade(std::int64_t part, std::int64_t i, std::int64_t j) const {
-  return 1.0 + 0.07 * (hash01(seed_, part, i, j) - 0.5);
+double C12Livery::PanelShade(std::int64_t part, std::int64_t i, std::int64_t j) const {
+  return 1.0 + 0.07 * (Hash01(seed_, part, i, j) - 0.5);
 }
 
-double C12Livery::access_panel(std::int64_t part, std::int64_t i, std::int64_t j, double a0, double a1,
+double C12Livery::AccessPanel(std::int64_t part, std::int64_t i, std::int64_t j, double a0, double a1,
                                double b0, double b1, double a, double b) const {
-  const std::uint64_t h = hash64(seed_ + 100, part, i, j);
+  const std::uint64_t h = Hash64(seed_ + 100, part, i, j);
   if (h % 5 < 2) return 1.0;  // 60 % of the cells carry a panel
   auto u01 = [h](int k) { return static_cast<double>((h >> (8 * k + 8)) & 0xff) / 255.0; };
   const double hx = std::min(0.08 + 0.12 * u01(0), 0.5 * (a1 - a0) - 0.05);
@@ -112,22 +112,22 @@ double C12Livery::access_panel(std::int64_t part, std::int64_t i, std::int64_t j
   const double ca = a0 + 0.05 + hx + u01(2) * std::max(0.0, (a1 - a0) - 0.1 - 2 * hx);
   const double cb = b0 + 0.05 + hy + u01(3) * std::max(0.0, (b1 - b0) - 0.1 - 2 * hy);
   const double x = a - ca, y = b - cb;
-  if (outline(x, y, hx, hy, 0.02)) return kPanelLine;
+  if (OnOutline(x, y, hx, hy, 0.02)) return kPanelLine;
   // Fasteners around the edge, 2.5 cm inside.
   const bool fastener_row = (std::abs(std::abs(x) - (hx - 0.025)) < kRivetRadius && std::abs(y) < hy - 0.02 &&
-                             distance_to_grid(y, 0.06) < kRivetRadius) ||
+                             DistanceToGrid(y, 0.06) < kRivetRadius) ||
                             (std::abs(std::abs(y) - (hy - 0.025)) < kRivetRadius && std::abs(x) < hx - 0.02 &&
-                             distance_to_grid(x, 0.06) < kRivetRadius);
+                             DistanceToGrid(x, 0.06) < kRivetRadius);
   if (fastener_row) return kRivet;
-  if (in_rounded_rect(x, y, hx, hy, 0.02)) return 1.0 + 0.06 * (u01(4) - 0.5);  // slightly different paint
+  if (InRoundedRect(x, y, hx, hy, 0.02)) return 1.0 + 0.06 * (u01(4) - 0.5);  // slightly different paint
   return 1.0;
 }
 
-Color C12Livery::fuselage(double u, double v) const {
+Color C12Livery::Fuselage(double u, double v) const {
   const Body& body = airframe_.fuselage;
-  const Vec3 p = body.point(u, v);
-  const double s = body.station(u);
-  const double zeta = body.section_height(v);  // -1 bottom, 0 widest, +1 top
+  const Vec3 p = body.Point(u, v);
+  const double s = body.Station(u);
+  const double zeta = body.SectionHeight(v);  // -1 bottom, 0 widest, +1 top
   const double phi = 2.0 * kPi * v;           // 0 bottom, pi/2 left side, pi top
   const bool left = p.y() >= 0.0;
   const BodyTables& t = body.tables();
@@ -145,25 +145,25 @@ Color C12Livery::fuselage(double u, double v) const {
 
   // Markings: "U.S. ARMY" on both sides of the aft fuselage, reading correctly from outside.
   constexpr double kTextStation = 10.55, kTextZ = 0.26, kTextHeight = 0.24;
-  if (text_ink("U.S. ARMY", left ? s - kTextStation : kTextStation - s, p.z() - kTextZ, kTextHeight)) c = kInk;
+  if (TextInk("U.S. ARMY", left ? s - kTextStation : kTextStation - s, p.z() - kTextZ, kTextHeight)) c = kInk;
 
   // Skin panels: shade per panel, joints, frames with rivet rows, access panels.
   const auto bay = static_cast<std::int64_t>(
       std::upper_bound(kFuselageJoints.begin(), kFuselageJoints.end(), s) - kFuselageJoints.begin());
   const auto strip = static_cast<std::int64_t>(std::floor((phi - 0.5 * kLapJointPitch) / kLapJointPitch));
-  double shade = panel_shade(1, bay, strip);
+  double shade = PanelShade(1, bay, strip);
   if (s > kFuselageJoints.front() && s < kFuselageJoints.back()) {
     for (double joint : kFuselageJoints) {
-      if (near(s - joint)) shade *= kPanelLine;
+      if (IsNear(s - joint)) shade *= kPanelLine;
     }
-    const double lap = distance_to_grid(phi, kLapJointPitch, 0.5 * kLapJointPitch) * radius;
-    if (near(lap)) shade *= kPanelLine;
-    if (rivet(s, lap - 0.02, 0.05)) shade *= kRivet;
-    if (rivet(around, distance_to_grid(s, kFrameSpacing, 0.3))) shade *= kRivet;
+    const double lap = DistanceToGrid(phi, kLapJointPitch, 0.5 * kLapJointPitch) * radius;
+    if (IsNear(lap)) shade *= kPanelLine;
+    if (OnRivet(s, lap - 0.02, 0.05)) shade *= kRivet;
+    if (OnRivet(around, DistanceToGrid(s, kFrameSpacing, 0.3))) shade *= kRivet;
     const bool panels_here = zeta < -0.1 || s < 2.4 || s > 9.6;
     if (panels_here && bay > 0 && bay < static_cast<std::int64_t>(kFuselageJoints.size())) {
       const double b0 = (0.5 * kLapJointPitch + static_cast<double>(strip) * kLapJointPitch) * radius;
-      shade *= access_panel(1, bay, strip, kFuselageJoints[static_cast<std::size_t>(bay - 1)],
+      shade *= AccessPanel(1, bay, strip, kFuselageJoints[static_cast<std::size_t>(bay - 1)],
                             kFuselageJoints[static_cast<std::size_t>(bay)], b0, b0 + kLapJointPitch * radius, s,
                             around);
     }
@@ -179,9 +179,9 @@ Color C12Livery::fuselage(double u, double v) const {
   if (std::hypot(s - 8.4, p.y()) < 0.05 && zeta < 0) c = kNavRed;
 
   // Doors: airstair door (left, aft), emergency exit (right, over the wing).
-  if (left && outline(s - 9.10, p.z() + 0.05, 0.35, 0.66, 0.08)) shade *= kPanelLine;
-  if (left && in_rounded_rect(s - 9.36, p.z() - 0.02, 0.05, 0.018, 0.01)) c = kInk;
-  if (!left && outline(s - (kCabinWindowFirst + 2 * kCabinWindowPitch), p.z() - 0.28, 0.28, 0.33, 0.06)) {
+  if (left && OnOutline(s - 9.10, p.z() + 0.05, 0.35, 0.66, 0.08)) shade *= kPanelLine;
+  if (left && InRoundedRect(s - 9.36, p.z() - 0.02, 0.05, 0.018, 0.01)) c = kInk;
+  if (!left && OnOutline(s - (kCabinWindowFirst + 2 * kCabinWindowPitch), p.z() - 0.28, 0.28, 0.33, 0.06)) {
     shade *= kPanelLine;
   }
 
@@ -206,22 +206,22 @@ Color C12Livery::fuselage(double u, double v) const {
   }
   {
     const double x = s - 3.46, y = p.z() - 0.37;
-    glaze(in_rounded_rect(x, y, 0.30, 0.17, 0.06), outline(x, y, 0.32, 0.19, 0.07, 0.02));
+    glaze(InRoundedRect(x, y, 0.30, 0.17, 0.06), OnOutline(x, y, 0.32, 0.19, 0.07, 0.02));
   }
   for (int k = 0; k < kCabinWindows; ++k) {
     const double x = s - (kCabinWindowFirst + k * kCabinWindowPitch), y = p.z() - 0.30;
-    glaze(in_rounded_rect(x, y, 0.15, 0.18, 0.06), outline(x, y, 0.165, 0.195, 0.07, 0.015));
+    glaze(InRoundedRect(x, y, 0.15, 0.18, 0.06), OnOutline(x, y, 0.165, 0.195, 0.07, 0.015));
   }
-  return weather(c * shade, p, glass_weather);
+  return Weather(c * shade, p, glass_weather);
 }
 
-Color C12Livery::wing(double u, double v) const {
+Color C12Livery::Wing(double u, double v) const {
   const LiftingSurface& w = airframe_.wing;
-  const Vec3 p = w.point(u, v);
-  const double eta = w.span_station(u), a = std::abs(eta);
-  const double xc = w.chord_fraction(v);
-  const bool upper = LiftingSurface::upper_side(v);
-  const double chord = w.chord(eta);
+  const Vec3 p = w.Point(u, v);
+  const double eta = w.SpanStation(u), a = std::abs(eta);
+  const double xc = w.ChordFraction(v);
+  const bool upper = LiftingSurface::IsUpperSide(v);
+  const double chord = w.Chord(eta);
   const double xm = xc * chord;  // metres aft of the leading edge
   const double semispan = w.spec().semispan;
   const double nacelle = airframe_.nacelle_y;
@@ -231,41 +231,41 @@ Color C12Livery::wing(double u, double v) const {
   constexpr double kRoot = 0.78, kRibPitch = 0.5;
   const auto rib_bay = static_cast<std::int64_t>(std::floor((a - kRoot) / kRibPitch));
   const std::int64_t zone = xc < 0.13 ? 0 : (xc < 0.70 ? 1 : 2);
-  double shade = panel_shade(eta > 0 ? 2 : 3, rib_bay, zone + (upper ? 3 : 0));
+  double shade = PanelShade(eta > 0 ? 2 : 3, rib_bay, zone + (upper ? 3 : 0));
 
   const bool boot_span = (a > kRoot && a < nacelle - 0.47) || (a > nacelle + 0.47 && a < semispan - 0.35);
   if (boot_span && xc < (upper ? 0.11 : 0.075)) c = kBoot;
   if (upper && a > 0.80 && a < 1.95 && xc > 0.16 && xc < 0.60) {
     c = kWalkway;
-    if (outline(a - 1.375, (xc - 0.38) * chord, 0.575, 0.22 * chord, 0.0, 0.02)) c = kInk;
+    if (OnOutline(a - 1.375, (xc - 0.38) * chord, 0.575, 0.22 * chord, 0.0, 0.02)) c = kInk;
   }
   if (a > semispan - 0.06 && xc < 0.3) c = eta > 0 ? kNavRed : kNavGreen;  // port red, starboard green
 
   if (a > kRoot && a < semispan - 0.1) {
-    const double rib = distance_to_grid(a, kRibPitch, kRoot);
-    if (near(rib)) shade *= kPanelLine;
-    if (rivet(xm, rib - 0.02)) shade *= kRivet;
+    const double rib = DistanceToGrid(a, kRibPitch, kRoot);
+    if (IsNear(rib)) shade *= kPanelLine;
+    if (OnRivet(xm, rib - 0.02)) shade *= kRivet;
     for (double spar : {0.13, 0.70}) {
       const double d = (xc - spar) * chord;
-      if (near(d)) shade *= kPanelLine;
-      if (rivet(a, d + 0.02)) shade *= kRivet;
+      if (IsNear(d)) shade *= kPanelLine;
+      if (OnRivet(a, d + 0.02)) shade *= kRivet;
     }
-    if (xc > 0.16 && xc < 0.68 && rivet(a, distance_to_grid(xm, 0.15), 0.06)) shade *= 0.9;  // stringers
+    if (xc > 0.16 && xc < 0.68 && OnRivet(a, DistanceToGrid(xm, 0.15), 0.06)) shade *= 0.9;  // stringers
     // Flaps (inboard and outboard of the nacelle) and ailerons behind a hinge line at 74 % chord.
     constexpr std::array<double, 6> kBreaks = {kRoot, 2.15, 3.05, 5.40, 5.45, 7.95};
     if (xc > 0.74) {
       for (double b : kBreaks) {
-        if (near(a - b)) shade *= kPanelLine;
+        if (IsNear(a - b)) shade *= kPanelLine;
       }
-      if (eta > 0 && xc > 0.91 && outline(a - 5.95, (xc - 0.96) * chord, 0.35, 0.05 * chord, 0.0)) {
+      if (eta > 0 && xc > 0.91 && OnOutline(a - 5.95, (xc - 0.96) * chord, 0.35, 0.05 * chord, 0.0)) {
         shade *= kPanelLine;  // aileron trim tab
       }
     }
-    if (near((xc - 0.74) * chord) && a < 7.95) shade *= kPanelLine;
+    if (IsNear((xc - 0.74) * chord) && a < 7.95) shade *= kPanelLine;
     if (upper) {
       for (double centre : {1.45, 4.2}) {
         const double side_centre = eta > 0 ? centre : -centre;
-        if (text_ink("NO STEP", side_centre - eta, (0.86 - xc) * chord, 0.08)) c = kInk;
+        if (TextInk("NO STEP", side_centre - eta, (0.86 - xc) * chord, 0.08)) c = kInk;
       }
       if (std::hypot(a - 4.9, (xc - 0.30) * chord) < 0.06) {
         shade *= std::hypot(a - 4.9, (xc - 0.30) * chord) > 0.045 ? kPanelLine : 0.85;  // fuel filler
@@ -277,7 +277,7 @@ Color C12Livery::wing(double u, double v) const {
                                     (xc - 0.42) * chord);
         if (std::abs(r - 0.085) < 0.006) shade *= kPanelLine;
       }
-      if (std::hypot(distance_to_grid(a, 1.0, 0.3), (xc - 0.66) * chord) < 0.012) c = kInk;
+      if (std::hypot(DistanceToGrid(a, 1.0, 0.3), (xc - 0.66) * chord) < 0.012) c = kInk;
     }
   }
   // Exhaust soot over the wing beside the nacelles, streaked along the flow.
@@ -289,16 +289,16 @@ Color C12Livery::wing(double u, double v) const {
       shade *= 1.0 - 0.45 * fade * streak;
     }
   }
-  return weather(c * shade, p);
+  return Weather(c * shade, p);
 }
 
-Color C12Livery::nacelle(const Body& body, double u, double v) const {
-  const Vec3 p = body.point(u, v);
-  const double s = body.station(u);
-  const double zeta = body.section_height(v);
+Color C12Livery::Nacelle(const Body& body, double u, double v) const {
+  const Vec3 p = body.Point(u, v);
+  const double s = body.Station(u);
+  const double zeta = body.SectionHeight(v);
   const double phi = 2.0 * kPi * v;
   const double side = std::abs(std::sin(phi));  // 1 on the inboard/outboard sides
-  const bool left_nacelle = body.point(0.0, 0.0).y() > 0;
+  const bool left_nacelle = body.Point(0.0, 0.0).y() > 0;
   const BodyTables& t = body.tables();
   const double radius = 0.5 * (t.half_width(s) + 0.5 * (t.z_top(s) - t.z_bottom(s)));
   const double around = phi * radius;
@@ -308,13 +308,13 @@ Color C12Livery::nacelle(const Body& body, double u, double v) const {
   constexpr std::array<double, 5> kCowlJoints = {0.42, 1.0, 1.75, 2.55, 3.55};
   const auto bay = static_cast<std::int64_t>(
       std::upper_bound(kCowlJoints.begin(), kCowlJoints.end(), s) - kCowlJoints.begin());
-  double shade = panel_shade(left_nacelle ? 4 : 5, bay, zeta > 0 ? 1 : 0);
+  double shade = PanelShade(left_nacelle ? 4 : 5, bay, zeta > 0 ? 1 : 0);
   if (s > kCowlJoints.front()) {
     for (double joint : kCowlJoints) {
-      if (near(s - joint)) shade *= kPanelLine;
+      if (IsNear(s - joint)) shade *= kPanelLine;
     }
-    if (rivet(around, distance_to_grid(s, 0.2, 0.5))) shade *= kRivet;
-    if (near(p.y() - body.point(0.0, 0.0).y()) && zeta < -0.5) shade *= kPanelLine;  // keel seam / gear doors
+    if (OnRivet(around, DistanceToGrid(s, 0.2, 0.5))) shade *= kRivet;
+    if (IsNear(p.y() - body.Point(0.0, 0.0).y()) && zeta < -0.5) shade *= kPanelLine;  // keel seam / gear doors
   }
   // Chin intake below the spinner.
   if (s > 0.50 && s < 0.85 && zeta < -0.62) c = (s < 0.54 || zeta > -0.66) ? kFrame : kIntake;
@@ -333,16 +333,16 @@ Color C12Livery::nacelle(const Body& body, double u, double v) const {
     }
   }
   // Main gear doors under the nacelle.
-  if (zeta < -0.5 && outline(s - 3.1, p.y() - body.point(0.0, 0.0).y(), 0.8, 0.30, 0.05)) shade *= kPanelLine;
-  return weather(c * shade, p);
+  if (zeta < -0.5 && OnOutline(s - 3.1, p.y() - body.Point(0.0, 0.0).y(), 0.8, 0.30, 0.05)) shade *= kPanelLine;
+  return Weather(c * shade, p);
 }
 
-Color C12Livery::fin(double u, double v) const {
+Color C12Livery::Fin(double u, double v) const {
   const LiftingSurface& f = airframe_.fin;
-  const Vec3 p = f.point(u, v);
-  const double xc = f.chord_fraction(v);
-  const double chord = f.chord(f.span_station(u));
-  const double s = airframe_.station_of_x(p.x());
+  const Vec3 p = f.Point(u, v);
+  const double xc = f.ChordFraction(v);
+  const double chord = f.Chord(f.SpanStation(u));
+  const double s = airframe_.StationOfX(p.x());
   const bool left = p.y() >= 0.0;
   const double top = f.spec().root_leading_edge.z() + f.spec().semispan;
 
@@ -350,50 +350,50 @@ Color C12Livery::fin(double u, double v) const {
   if (p.z() > top - 0.30) c = kCheatBlue;
   if (xc < 0.10 && p.z() > 0.75 && p.z() < top - 0.12) c = kBoot;
   auto reading = [&](double centre) { return left ? s - centre : centre - s; };
-  if (text_ink("U.S. ARMY", reading(12.0), p.z() - 1.95, 0.13)) c = kInk;
-  if (text_ink("84-24375", reading(11.95), p.z() - 1.50, 0.17)) c = kInk;
+  if (TextInk("U.S. ARMY", reading(12.0), p.z() - 1.95, 0.13)) c = kInk;
+  if (TextInk("84-24375", reading(11.95), p.z() - 1.50, 0.17)) c = kInk;
 
   constexpr double kRibPitch = 0.35;
-  const double rib = distance_to_grid(p.z(), kRibPitch, 0.8);
-  double shade = panel_shade(6, static_cast<std::int64_t>(std::floor(p.z() / kRibPitch)), xc < 0.66 ? 0 : 1);
+  const double rib = DistanceToGrid(p.z(), kRibPitch, 0.8);
+  double shade = PanelShade(6, static_cast<std::int64_t>(std::floor(p.z() / kRibPitch)), xc < 0.66 ? 0 : 1);
   if (p.z() > 0.7) {
-    if (near(rib)) shade *= kPanelLine;
-    if (rivet(xc * chord, rib - 0.02)) shade *= kRivet;
+    if (IsNear(rib)) shade *= kPanelLine;
+    if (OnRivet(xc * chord, rib - 0.02)) shade *= kRivet;
     for (double spar : {0.12, 0.66}) {
       const double d = (xc - spar) * chord;
-      if (near(d)) shade *= kPanelLine;
-      if (rivet(p.z(), d - 0.02)) shade *= kRivet;
+      if (IsNear(d)) shade *= kPanelLine;
+      if (OnRivet(p.z(), d - 0.02)) shade *= kRivet;
     }
-    if (xc > 0.9 && outline(p.z() - 1.2, (xc - 0.95) * chord, 0.3, 0.05 * chord, 0.0)) shade *= kPanelLine;
+    if (xc > 0.9 && OnOutline(p.z() - 1.2, (xc - 0.95) * chord, 0.3, 0.05 * chord, 0.0)) shade *= kPanelLine;
   }
-  return weather(c * shade, p);
+  return Weather(c * shade, p);
 }
 
-Color C12Livery::stabilizer(double u, double v) const {
+Color C12Livery::Stabilizer(double u, double v) const {
   const LiftingSurface& st = airframe_.stabilizer;
-  const Vec3 p = st.point(u, v);
-  const double eta = st.span_station(u), a = std::abs(eta);
-  const double xc = st.chord_fraction(v);
-  const bool upper = LiftingSurface::upper_side(v);
-  const double chord = st.chord(eta);
+  const Vec3 p = st.Point(u, v);
+  const double eta = st.SpanStation(u), a = std::abs(eta);
+  const double xc = st.ChordFraction(v);
+  const bool upper = LiftingSurface::IsUpperSide(v);
+  const double chord = st.Chord(eta);
   const double semispan = st.spec().semispan;
 
   Color c = upper ? kWhite : kUnderGrey;
   if (xc < (upper ? 0.10 : 0.07) && a > 0.22 && a < semispan - 0.08) c = kBoot;
   constexpr double kRibPitch = 0.35;
-  const double rib = distance_to_grid(a, kRibPitch, 0.22);
-  double shade = panel_shade(7, static_cast<std::int64_t>(std::floor(eta / kRibPitch)), upper ? 1 : 0);
+  const double rib = DistanceToGrid(a, kRibPitch, 0.22);
+  double shade = PanelShade(7, static_cast<std::int64_t>(std::floor(eta / kRibPitch)), upper ? 1 : 0);
   if (a > 0.22 && a < semispan - 0.08) {
-    if (near(rib)) shade *= kPanelLine;
-    if (rivet(xc * chord, rib - 0.02)) shade *= kRivet;
+    if (IsNear(rib)) shade *= kPanelLine;
+    if (OnRivet(xc * chord, rib - 0.02)) shade *= kRivet;
     for (double spar : {0.12, 0.66}) {
       const double d = (xc - spar) * chord;
-      if (near(d)) shade *= kPanelLine;
-      if (rivet(a, d + 0.02)) shade *= kRivet;
+      if (IsNear(d)) shade *= kPanelLine;
+      if (OnRivet(a, d + 0.02)) shade *= kRivet;
     }
-    if (xc > 0.9 && outline(a - 0.65, (xc - 0.95) * chord, 0.3, 0.05 * chord, 0.0)) shade *= kPanelLine;
+    if (xc > 0.9 && OnOutline(a - 0.65, (xc - 0.95) * chord, 0.3, 0.05 * chord, 0.0)) shade *= kPanelLine;
   }
-  return weather(c * shade, p);
+  return Weather(c * shade, p);
 }
 
 }  // namespace aar::scenes

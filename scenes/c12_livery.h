@@ -19,22 +19,22 @@ class C12Livery {
  public:
   C12Livery(const C12Airframe& airframe, std::uint64_t seed);
 
-  Color fuselage(double u, double v) const;
-  Color wing(double u, double v) const;
-  Color nacelle(const Body& nacelle, double u, double v) const;
-  Color fin(double u, double v) const;
-  Color stabilizer(double u, double v) const;
+  Color Fuselage(double u, double v) const;
+  Color Wing(double u, double v) const;
+  Color Nacelle(const Body& nacelle, double u, double v) const;
+  Color Fin(double u, double v) const;
+  Color Stabilizer(double u, double v) const;
 
  private:
   /// Weathering of a painted colour at body position p: multi-octave
   /// luminance noise, flow-aligned streaks and patchy grime. `strength`
   /// scales it (glazing and rubber weather less).
-  Color weather(const Color& paint, const Vec3& p, double strength = 1.0) const;
+  Color Weather(const Color& paint, const Vec3& p, double strength = 1.0) const;
   /// Per-panel shade variation (+-3.5 %) for panel (part, i, j).
-  double panel_shade(std::int64_t part, std::int64_t i, std::int64_t j) const;
+  double PanelShade(std::int64_t part, std::int64_t i, std::int64_t j) const;
   /// Darkening factor of an outlined access panel possibly placed in the
   /// panel cell [a0, a1] x [b0, b1] (metres on the surface), at (a, b).
-  double access_panel(std::int64_t part, std::int64_t i, std::int64_t j, double a0, double a1,
+  double AccessPanel(std::int64_t part, std::int64_t i, std::int64_t j, double a0, double a1,
                       double b0, double b1, double a, double b) const;
 
   const C12Airframe& airframe_;

@@ -2,7 +2,7 @@
 
 namespace aar::scenes {
 
-SceneModel build_calib_board(const BoardSpec& spec) {
+SceneModel BuildCalibBoard(const BoardSpec& spec) {
   // Cells of a (squares + 2 border) grid; cell (kx, ky) spans
   // [x0 + kx a, x0 + (kx + 1) a] x [y0 + ky a, y0 + (ky + 1) a]. Every cell is
   // its own quad but corner coordinates are exact multiples of a, so
@@ -25,21 +25,21 @@ SceneModel build_calib_board(const BoardSpec& spec) {
       // Square (sx, sy) counted from the top-left square (x < 0, y < 0), which is black.
       const int sx = kx - spec.border_squares, sy = ky - spec.border_squares;
       Mesh& face = (!border && (sx + sy) % 2 == 0) ? black : white;
-      face.add_quad(Vec3(x0, y0, 0), Vec3(x1, y0, 0), Vec3(x1, y1, 0), Vec3(x0, y1, 0), front);
-      backing.add_quad(Vec3(x0, y0, zb), Vec3(x1, y0, zb), Vec3(x1, y1, zb), Vec3(x0, y1, zb), back);
+      face.AddQuad(Vec3(x0, y0, 0), Vec3(x1, y0, 0), Vec3(x1, y1, 0), Vec3(x0, y1, 0), front);
+      backing.AddQuad(Vec3(x0, y0, zb), Vec3(x1, y0, zb), Vec3(x1, y1, zb), Vec3(x0, y1, zb), back);
     }
   }
   // Slab edges, split at every grid line so they meet the face quads' corners.
   const double xa = grid(first), xb = grid(first + cells_x), ya = grid(first), yb = grid(first + cells_y);
   for (int kx = 0; kx < cells_x; ++kx) {
     const double x0 = grid(first + kx), x1 = grid(first + kx + 1);
-    backing.add_quad(Vec3(x0, ya, 0), Vec3(x1, ya, 0), Vec3(x1, ya, zb), Vec3(x0, ya, zb), Vec3(0, -1, 0));
-    backing.add_quad(Vec3(x0, yb, 0), Vec3(x1, yb, 0), Vec3(x1, yb, zb), Vec3(x0, yb, zb), Vec3(0, 1, 0));
+    backing.AddQuad(Vec3(x0, ya, 0), Vec3(x1, ya, 0), Vec3(x1, ya, zb), Vec3(x0, ya, zb), Vec3(0, -1, 0));
+    backing.AddQuad(Vec3(x0, yb, 0), Vec3(x1, yb, 0), Vec3(x1, yb, zb), Vec3(x0, yb, zb), Vec3(0, 1, 0));
   }
   for (int ky = 0; ky < cells_y; ++ky) {
     const double y0 = grid(first + ky), y1 = grid(first + ky + 1);
-    backing.add_quad(Vec3(xa, y0, 0), Vec3(xa, y1, 0), Vec3(xa, y1, zb), Vec3(xa, y0, zb), Vec3(-1, 0, 0));
-    backing.add_quad(Vec3(xb, y0, 0), Vec3(xb, y1, 0), Vec3(xb, y1, zb), Vec3(xb, y0, zb), Vec3(1, 0, 0));
+    backing.AddQuad(Vec3(xa, y0, 0), Vec3(xa, y1, 0), Vec3(xa, y1, zb), Vec3(xa, y0, zb), Vec3(-1, 0, 0));
+    backing.AddQuad(Vec3(xb, y0, 0), Vec3(xb, y1, 0), Vec3(xb, y1, zb), Vec3(xb, y0, zb), Vec3(1, 0, 0));
   }
 
   SceneModel scene;

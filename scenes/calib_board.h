@@ -20,6 +20,6 @@ struct BoardSpec {
 /// the board; inner corner (i, j) at (square i, square j, 0). The printed
 /// face is the z = 0 plane facing -z; the square touching the origin at x < 0,
 /// y < 0 is black. Materials: 0 black, 1 white, 2 backing.
-SceneModel build_calib_board(const BoardSpec& spec);
+SceneModel BuildCalibBoard(const BoardSpec& spec);
 
 }  // namespace aar::scenes

@@ -4,17 +4,17 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+#include "aar/error.h"
 #include <utility>
 
 namespace aar::scenes {
 
 Profile::Profile(std::vector<double> x, std::vector<double> y) : x_(std::move(x)), y_(std::move(y)) {
   const std::size_t n = x_.size();
-  if (n < 2 || y_.size() != n) throw std::invalid_argument("Profile: need >= 2 matching points");
+  if (n < 2 || y_.size() != n) throw Error("Profile: need >= 2 matching points");
   std::vector<double> secant(n - 1);
   for (std::size_t i = 0; i + 1 < n; ++i) {
-    if (!(x_[i + 1] > x_[i])) throw std::invalid_argument("Profile: x must ascend strictly");
+    if (!(x_[i + 1] > x_[i])) throw Error("Profile: x must ascend strictly");
     secant[i] = (y_[i + 1] - y_[i]) / (x_[i + 1] - x_[i]);
   }
   // Fritsch-Carlson: harmonic-mean slopes at interior points, zero at extrema.
@@ -42,7 +42,7 @@ double Profile::operator()(double x) const {
          (-2 * t3 + 3 * t2) * y_[i + 1] + (t3 - t2) * h * slope_[i + 1];
 }
 
-void Mesh::add_quad(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3,
+void Mesh::AddQuad(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3,
                     const Vec3& normal) {
   const auto base = static_cast<std::uint32_t>(positions.size());
   for (const Vec3* p : {&p0, &p1, &p2, &p3}) {
@@ -55,7 +55,7 @@ void Mesh::add_quad(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& 
   for (std::uint32_t k : (ccw ? order : flipped)) indices.push_back(base + k);
 }
 
-Vec3 Patch::normal(double u, double v) const {
+Vec3 Patch::Normal(double u, double v) const {
   constexpr double h = 1e-4;
   auto wrap_or_clamp = [&](double t) {
     if (periodic_v) return t - std::floor(t);
@@ -71,7 +71,7 @@ Vec3 Patch::normal(double u, double v) const {
   return n.normalized();
 }
 
-Mesh tessellate(const Patch& patch, const AtlasRect* rect) {
+Mesh Tessellate(const Patch& patch, const AtlasRect* rect) {
   Mesh mesh;
   const std::size_t nu = patch.u_samples.size(), nv = patch.v_samples.size();
   mesh.positions.reserve(nu * nv);
@@ -79,7 +79,7 @@ Mesh tessellate(const Patch& patch, const AtlasRect* rect) {
   for (double u : patch.u_samples) {
     for (double v : patch.v_samples) {
       mesh.positions.push_back(patch.point(u, v));
-      mesh.normals.push_back(patch.normal(u, v));
+      mesh.normals.push_back(patch.Normal(u, v));
       if (rect != nullptr) {
         mesh.uvs.emplace_back((rect->x0 + u * rect->width) / rect->atlas_width,
                               (rect->y0 + v * rect->height) / rect->atlas_height);
@@ -102,7 +102,7 @@ Mesh tessellate(const Patch& patch, const AtlasRect* rect) {
   return mesh;
 }
 
-Box3 bounding_box(const std::vector<Vec3>& points) {
+Box3 BoundingBox(const std::vector<Vec3>& points) {
   Box3 box{Vec3::Constant(INFINITY), Vec3::Constant(-INFINITY)};
   for (const Vec3& p : points) {
     box.min = box.min.cwiseMin(p);
@@ -111,7 +111,7 @@ Box3 bounding_box(const std::vector<Vec3>& points) {
   return box;
 }
 
-double signed_volume(const Mesh& mesh) {
+double SignedVolume(const Mesh& mesh) {
   double six_v = 0.0;
   for (std::size_t k = 0; k < mesh.indices.size(); k += 3) {
     const Vec3& a = mesh.positions[mesh.indices[k]];
@@ -122,7 +122,7 @@ double signed_volume(const Mesh& mesh) {
   return six_v / 6.0;
 }
 
-double surface_area(const Mesh& mesh) {
+double SurfaceArea(const Mesh& mesh) {
   double area = 0.0;
   for (std::size_t k = 0; k < mesh.indices.size(); k += 3) {
     const Vec3& a = mesh.positions[mesh.indices[k]];
@@ -133,7 +133,7 @@ double surface_area(const Mesh& mesh) {
   return area;
 }
 
-TexelDensity texel_density(const Mesh& mesh, int atlas_width, int atlas_height,
+TexelDensity MeasureTexelDensity(const Mesh& mesh, int atlas_width, int atlas_height,
                            double threshold_per_m) {
   std::vector<std::pair<double, double>> samples;  // (texels per metre, area)
   double total_area = 0.0;
@@ -171,7 +171,7 @@ TexelDensity texel_density(const Mesh& mesh, int atlas_width, int atlas_height,
   return result;
 }
 
-std::vector<double> uniform_samples(int segments) {
+std::vector<double> UniformSamples(int segments) {
   std::vector<double> s(static_cast<std::size_t>(segments) + 1);
   for (int i = 0; i <= segments; ++i) s[static_cast<std::size_t>(i)] = static_cast<double>(i) / segments;
   return s;

@@ -37,10 +37,10 @@ struct Mesh {
   std::vector<Vec2> uvs;                ///< empty when untextured; glTF convention, (0,0) = top-left texel corner
   std::vector<std::uint32_t> indices;   ///< counter-clockwise seen from outside (glTF front faces)
 
-  std::size_t triangle_count() const { return indices.size() / 3; }
+  std::size_t TriangleCount() const { return indices.size() / 3; }
   /// Appends a planar quad p0..p3 (any winding) with a flat `normal`; the
   /// triangles are wound counter-clockwise seen from the side `normal` points to.
-  void add_quad(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3,
+  void AddQuad(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3,
                 const Vec3& normal);
 };
 
@@ -57,7 +57,7 @@ struct Patch {
 
   /// Outward unit normal from central differences; at poles (where the
   /// surface degenerates to a point) the normal of the nearest ring is used.
-  Vec3 normal(double u, double v) const;
+  Vec3 Normal(double u, double v) const;
 };
 
 /// Where a patch's (u, v) square lands in a texture atlas, in texels:
@@ -70,18 +70,18 @@ struct AtlasRect {
 /// Tessellates a patch on its sample grid (two triangles per cell, exactly
 /// degenerate triangles at poles dropped). Texture coordinates are written
 /// when `rect` is given.
-Mesh tessellate(const Patch& patch, const AtlasRect* rect);
+Mesh Tessellate(const Patch& patch, const AtlasRect* rect);
 
 struct Box3 {
   Vec3 min, max;
   Vec3 size() const { return max - min; }
 };
 
-Box3 bounding_box(const std::vector<Vec3>& points);
+Box3 BoundingBox(const std::vector<Vec3>& points);
 /// Signed enclosed volume (divergence theorem); positive for a closed mesh
 /// with outward-facing triangles.
-double signed_volume(const Mesh& mesh);
-double surface_area(const Mesh& mesh);
+double SignedVolume(const Mesh& mesh);
+double SurfaceArea(const Mesh& mesh);
 
 /// Texel density statistics of a textured mesh: for every non-degenerate
 /// triangle the smaller singular value of the metres-to-texels map, i.e. the
@@ -91,15 +91,15 @@ struct TexelDensity {
   double median_per_m = 0;     ///< area-weighted median
   double share_below = 0;      ///< fraction of the surface area below `threshold_per_m`
 };
-TexelDensity texel_density(const Mesh& mesh, int atlas_width, int atlas_height,
+TexelDensity MeasureTexelDensity(const Mesh& mesh, int atlas_width, int atlas_height,
                            double threshold_per_m);
 
 /// n + 1 samples 0, 1/n, ..., 1.
-std::vector<double> uniform_samples(int segments);
+std::vector<double> UniformSamples(int segments);
 
 /// glTF axes from body axes: X_gltf = y_body, Y_gltf = z_body, Z_gltf = x_body
 /// (the inverse of docs/frames.md's body_from_gltf; a proper rotation, so
 /// winding and normals carry over unchanged).
-inline Vec3 gltf_from_body(const Vec3& p) { return {p.y(), p.z(), p.x()}; }
+inline Vec3 GltfFromBody(const Vec3& p) { return {p.y(), p.z(), p.x()}; }
 
 }  // namespace aar::scenes

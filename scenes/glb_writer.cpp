@@ -4,7 +4,7 @@
 
 #include <cstring>
 #include <limits>
-#include <stdexcept>
+#include "aar/error.h"
 
 namespace aar::scenes {
 namespace {
@@ -12,7 +12,7 @@ namespace {
 constexpr double kRoughness = 0.8;
 
 /// Appends raw bytes to buffer 0 as a new buffer view (4-byte aligned); returns its index.
-int add_buffer_view(tinygltf::Model& model, const void* data, std::size_t size, int target) {
+int AddBufferView(tinygltf::Model& model, const void* data, std::size_t size, int target) {
   auto& bytes = model.buffers[0].data;
   while (bytes.size() % 4 != 0) bytes.push_back(0);
   tinygltf::BufferView view;
@@ -26,7 +26,7 @@ int add_buffer_view(tinygltf::Model& model, const void* data, std::size_t size, 
   return static_cast<int>(model.bufferViews.size()) - 1;
 }
 
-int add_accessor(tinygltf::Model& model, int view, int component_type, int type, std::size_t count,
+int AddAccessor(tinygltf::Model& model, int view, int component_type, int type, std::size_t count,
                  std::vector<double> min = {}, std::vector<double> max = {}) {
   tinygltf::Accessor accessor;
   accessor.bufferView = view;
@@ -39,12 +39,12 @@ int add_accessor(tinygltf::Model& model, int view, int component_type, int type,
   return static_cast<int>(model.accessors.size()) - 1;
 }
 
-int add_vec3(tinygltf::Model& model, const std::vector<Vec3>& body, bool with_bounds) {
+int AddVec3(tinygltf::Model& model, const std::vector<Vec3>& body, bool with_bounds) {
   std::vector<float> data;
   data.reserve(body.size() * 3);
   std::vector<double> lo(3, std::numeric_limits<double>::infinity()), hi(3, -std::numeric_limits<double>::infinity());
   for (const Vec3& p : body) {
-    const Vec3 g = gltf_from_body(p);
+    const Vec3 g = GltfFromBody(p);
     for (int k = 0; k < 3; ++k) {
       const float f = static_cast<float>(g[k]);
       data.push_back(f);
@@ -52,21 +52,21 @@ int add_vec3(tinygltf::Model& model, const std::vector<Vec3>& body, bool with_bo
       hi[static_cast<std::size_t>(k)] = std::max(hi[static_cast<std::size_t>(k)], static_cast<double>(f));
     }
   }
-  const int view = add_buffer_view(model, data.data(), data.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
-  if (!with_bounds) return add_accessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, body.size());
-  return add_accessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, body.size(), lo, hi);
+  const int view = AddBufferView(model, data.data(), data.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
+  if (!with_bounds) return AddAccessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, body.size());
+  return AddAccessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, body.size(), lo, hi);
 }
 
-tinygltf::Primitive make_primitive(tinygltf::Model& model, const Primitive& prim) {
+tinygltf::Primitive MakePrimitive(tinygltf::Model& model, const Primitive& prim) {
   const Mesh& mesh = prim.mesh;
   if (mesh.normals.size() != mesh.positions.size() || (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())) {
-    throw std::invalid_argument("write_glb: attribute count mismatch");
+    throw Error("WriteGlb: attribute count mismatch");
   }
   tinygltf::Primitive out;
   out.mode = TINYGLTF_MODE_TRIANGLES;
   out.material = prim.material;
-  out.attributes["POSITION"] = add_vec3(model, mesh.positions, true);
-  out.attributes["NORMAL"] = add_vec3(model, mesh.normals, false);
+  out.attributes["POSITION"] = AddVec3(model, mesh.positions, true);
+  out.attributes["NORMAL"] = AddVec3(model, mesh.normals, false);
   if (!mesh.uvs.empty()) {
     std::vector<float> uv;
     uv.reserve(mesh.uvs.size() * 2);
@@ -74,26 +74,26 @@ tinygltf::Primitive make_primitive(tinygltf::Model& model, const Primitive& prim
       uv.push_back(static_cast<float>(t.x()));
       uv.push_back(static_cast<float>(t.y()));
     }
-    const int view = add_buffer_view(model, uv.data(), uv.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
+    const int view = AddBufferView(model, uv.data(), uv.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
     out.attributes["TEXCOORD_0"] =
-        add_accessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, mesh.uvs.size());
+        AddAccessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, mesh.uvs.size());
   }
   int view = 0, component = 0;
   if (mesh.positions.size() <= 65535) {
     const std::vector<std::uint16_t> idx(mesh.indices.begin(), mesh.indices.end());
-    view = add_buffer_view(model, idx.data(), idx.size() * 2, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    view = AddBufferView(model, idx.data(), idx.size() * 2, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
     component = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
   } else {
-    view = add_buffer_view(model, mesh.indices.data(), mesh.indices.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    view = AddBufferView(model, mesh.indices.data(), mesh.indices.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
     component = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
   }
-  out.indices = add_accessor(model, view, component, TINYGLTF_TYPE_SCALAR, mesh.indices.size());
+  out.indices = AddAccessor(model, view, component, TINYGLTF_TYPE_SCALAR, mesh.indices.size());
   return out;
 }
 
 }  // namespace
 
-void write_glb(const SceneModel& scene, const std::filesystem::path& path) {
+void WriteGlb(const SceneModel& scene, const std::filesystem::path& path) {
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "aar-make-scenes";
@@ -103,7 +103,7 @@ void write_glb(const SceneModel& scene, const std::filesystem::path& path) {
     tinygltf::Image image;
     image.name = scene.name + "_atlas";
     image.mimeType = "image/png";
-    image.bufferView = add_buffer_view(model, scene.texture_png.data(), scene.texture_png.size(), 0);
+    image.bufferView = AddBufferView(model, scene.texture_png.data(), scene.texture_png.size(), 0);
     model.images.push_back(image);
     tinygltf::Sampler sampler;
     sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
@@ -117,7 +117,7 @@ void write_glb(const SceneModel& scene, const std::filesystem::path& path) {
     model.textures.push_back(texture);
   }
   for (const Material& m : scene.materials) {
-    if (m.textured && scene.texture_png.empty()) throw std::invalid_argument("write_glb: textured material without texture");
+    if (m.textured && scene.texture_png.empty()) throw Error("WriteGlb: textured material without texture");
     tinygltf::Material out;
     out.name = m.name;
     out.pbrMetallicRoughness.baseColorFactor = {m.base_color.begin(), m.base_color.end()};
@@ -132,7 +132,7 @@ void write_glb(const SceneModel& scene, const std::filesystem::path& path) {
   for (const Node& node : scene.nodes) {
     tinygltf::Mesh mesh;
     mesh.name = node.name;
-    for (const Primitive& prim : node.primitives) mesh.primitives.push_back(make_primitive(model, prim));
+    for (const Primitive& prim : node.primitives) mesh.primitives.push_back(MakePrimitive(model, prim));
     model.meshes.push_back(mesh);
     tinygltf::Node out;
     out.name = node.name;
@@ -148,7 +148,7 @@ void write_glb(const SceneModel& scene, const std::filesystem::path& path) {
   tmp += ".tmp";
   tinygltf::TinyGLTF writer;
   if (!writer.WriteGltfSceneToFile(&model, tmp.string(), true, true, false, true)) {
-    throw std::runtime_error("write_glb: cannot write " + tmp.string());
+    throw Error("WriteGlb: cannot write " + tmp.string());
   }
   std::filesystem::rename(tmp, path);
 }

@@ -39,6 +39,6 @@ struct SceneModel {
 
 /// Writes `scene` as a .glb to `path` (through a temporary file renamed into
 /// place). The output depends only on `scene`.
-void write_glb(const SceneModel& scene, const std::filesystem::path& path);
+void WriteGlb(const SceneModel& scene, const std::filesystem::path& path);
 
 }  // namespace aar::scenes

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <stdexcept>
+#include "aar/error.h"
 #include <string>
 
 namespace aar::scenes {
@@ -26,14 +26,14 @@ constexpr double kTanHalfFovY = 0.5 * 768 / 900.0 + 0.01;
 constexpr double kFuselageBottomLimit = -2.6;  // at the rig station
 constexpr double kLowestNearRigLimit = -2.8;   // nothing lower within 3 m of the cameras
 
-double x_of(double station) { return kHalfLength - station; }
+double XOfStation(double station) { return kHalfLength - station; }
 
 const std::vector<double> kFuselageStations = {0.0,  0.35, 1.0,  2.0,  3.5,  5.0,  7.0, 38.0,
                                                42.0, 44.0, 45.25, 46.5, 48.0, 49.5, kLength};
 const Profile kFuselageBottom(kFuselageStations, {-0.60, -1.05, -1.60, -2.05, -2.35, -2.48, -2.50, -2.50,
                                                   -2.48, -2.40, -2.28, -2.00, -1.30, -0.20, 0.90});
 
-Body fuselage() {
+Body Fuselage() {
   // 5 m diameter cabin; round nose; tail cone sweeping up from 42 m so the
   // underside stays near the cabin floor line at the camera station.
   const std::vector<double>& s = kFuselageStations;
@@ -43,10 +43,10 @@ Body fuselage() {
       Profile(s, {-0.60, -0.60, -0.55, -0.45, -0.30, -0.12, 0.00, 0.00, 0.00, 0.05, 0.10, 0.15, 0.30, 0.55, 0.90}),
       Profile(s, {0.00, 0.50, 1.05, 1.60, 2.10, 2.40, 2.50, 2.50, 2.45, 2.30, 2.12, 1.85, 1.40, 0.75, 0.00}),
       2.0};
-  return Body(std::move(t), Vec3(x_of(0.0), 0.0, 0.0), kLength);
+  return Body(std::move(t), Vec3(XOfStation(0.0), 0.0, 0.0), kLength);
 }
 
-Body camera_fairing() {
+Body CameraFairing() {
   // Teardrop under the aft fuselage around the cameras: its top is buried
   // 0.25 m inside the fuselage, its bottom reaches -2.72 m at the rig.
   constexpr double kNose = 42.4, kTail = 47.9;
@@ -61,10 +61,10 @@ Body camera_fairing() {
     breadth.push_back(0.5 * (top.back() + bottom.back()));
   }
   BodyTables t{Profile(local, top), Profile(local, bottom), Profile(local, breadth), Profile(local, half_width), 2.0};
-  return Body(std::move(t), Vec3(x_of(kNose), 0.0, 0.0), kTail - kNose);
+  return Body(std::move(t), Vec3(XOfStation(kNose), 0.0, 0.0), kTail - kNose);
 }
 
-Body engine(double y) {
+Body Engine(double y) {
   // High-bypass nacelle, inlet closed by a shallow dome.
   const std::vector<double> s = {0.0, 0.25, 0.8, 1.8, 3.0, 4.2, 5.2, 5.9, 6.4};
   const std::vector<double> r = {0.0, 0.95, 1.30, 1.37, 1.35, 1.20, 0.90, 0.55, 0.0};
@@ -74,9 +74,9 @@ Body engine(double y) {
               Vec3(5.3, y, -2.70), 6.4);
 }
 
-LiftingSurface wing() {
+LiftingSurface Wing() {
   LiftingSurfaceSpec w;
-  w.root_leading_edge = Vec3(x_of(18.6), 0.0, -1.6);
+  w.root_leading_edge = Vec3(XOfStation(18.6), 0.0, -1.6);
   w.semispan = 24.05;  // 48.1 m span
   w.root_chord = 10.0;
   w.tip_chord = 2.2;
@@ -90,7 +90,7 @@ LiftingSurface wing() {
   return LiftingSurface(w);
 }
 
-LiftingSurface pylon(double y) {
+LiftingSurface Pylon(double y) {
   LiftingSurfaceSpec p;
   p.root_leading_edge = Vec3(3.3, y, -2.2);  // root buried in the nacelle, tip in the wing
   p.span_axis = Vec3(0, 0, 1);
@@ -103,9 +103,9 @@ LiftingSurface pylon(double y) {
   return LiftingSurface(p);
 }
 
-LiftingSurface stabilizer() {
+LiftingSurface Stabilizer() {
   LiftingSurfaceSpec h;
-  h.root_leading_edge = Vec3(x_of(41.0), 0.0, 0.9);
+  h.root_leading_edge = Vec3(XOfStation(41.0), 0.0, 0.9);
   h.semispan = 9.3;
   h.root_chord = 5.6;
   h.tip_chord = 1.8;
@@ -118,9 +118,9 @@ LiftingSurface stabilizer() {
   return LiftingSurface(h);
 }
 
-LiftingSurface fin() {
+LiftingSurface Fin() {
   LiftingSurfaceSpec f;
-  f.root_leading_edge = Vec3(x_of(38.0), 0.0, 1.5);
+  f.root_leading_edge = Vec3(XOfStation(38.0), 0.0, 1.5);
   f.span_axis = Vec3(0, 0, 1);
   f.semispan = 9.9;  // tip 11.4 m above the centre line
   f.root_chord = 9.5;
@@ -133,13 +133,13 @@ LiftingSurface fin() {
 }
 
 /// Whether p is inside the view pyramid of a camera at `centre`.
-bool in_view(const Vec3& centre, const Vec3& p) {
+bool InView(const Vec3& centre, const Vec3& p) {
   const Vec3 d = p - centre;
   const double z = d.dot(kCameraZ);
   return z > 0.0 && std::abs(d.dot(kCameraX)) < z * kTanHalfFovX && std::abs(d.dot(kCameraY)) < z * kTanHalfFovY;
 }
 
-RigClearance check_rig_clearance(const SceneModel& scene, const Body& fuselage_body) {
+RigClearance CheckRigClearance(const SceneModel& scene, const Body& fuselage_body) {
   RigClearance r;
   // Underside at the rig station: the lowest point of the section there.
   const double rig_station = kHalfLength - kCameraCentres[0].x();
@@ -160,14 +160,14 @@ RigClearance check_rig_clearance(const SceneModel& scene, const Body& fuselage_b
         const Vec3& c = m.positions[m.indices[k + 2]];
         for (const Vec3& q : {a, b, c, Vec3(0.5 * (a + b)), Vec3(0.5 * (b + c)), Vec3(0.5 * (c + a)),
                               Vec3((a + b + c) / 3.0)}) {
-          if (in_view(kCameraCentres[0], q) || in_view(kCameraCentres[1], q)) ++r.vertices_in_view;
+          if (InView(kCameraCentres[0], q) || InView(kCameraCentres[1], q)) ++r.vertices_in_view;
         }
       }
     }
   }
   if (r.fuselage_bottom_at_rig_m <= kFuselageBottomLimit || r.lowest_near_rig_m < kLowestNearRigLimit ||
       r.vertices_in_view != 0) {
-    throw std::runtime_error("kc46: geometry violates the stereo rig clearance (bottom at rig " +
+    throw Error("kc46: geometry violates the stereo rig clearance (bottom at rig " +
                              std::to_string(r.fuselage_bottom_at_rig_m) + ", lowest near rig " +
                              std::to_string(r.lowest_near_rig_m) + ", points in view " +
                              std::to_string(r.vertices_in_view) + ")");
@@ -177,24 +177,24 @@ RigClearance check_rig_clearance(const SceneModel& scene, const Body& fuselage_b
 
 }  // namespace
 
-SceneModel build_kc46(RigClearance* clearance) {
-  const Body fuselage_body = fuselage();
+SceneModel BuildKc46(RigClearance* clearance) {
+  const Body fuselage_body = Fuselage();
   SceneModel scene;
   scene.name = "kc46";
   scene.materials.push_back(Material{"kc46_grey", {0.60, 0.62, 0.64, 1.0}, false});
   auto add = [&scene](const char* name, const Patch& patch) {
-    scene.nodes.push_back(Node{name, {Primitive{tessellate(patch, nullptr), 0}}});
+    scene.nodes.push_back(Node{name, {Primitive{Tessellate(patch, nullptr), 0}}});
   };
-  add("fuselage", fuselage_body.patch(140, 64));
-  add("wing", wing().patch(100, 40, 6));
-  add("stabilizer", stabilizer().patch(60, 28, 5));
-  add("fin", fin().patch(36, 32, 5));
-  add("engine_left", engine(7.7).patch(40, 32));
-  add("engine_right", engine(-7.7).patch(40, 32));
-  add("pylon_left", pylon(7.7).patch(10, 24, 4));
-  add("pylon_right", pylon(-7.7).patch(10, 24, 4));
-  add("camera_fairing", camera_fairing().patch(40, 32));
-  const RigClearance r = check_rig_clearance(scene, fuselage_body);
+  add("fuselage", fuselage_body.MakePatch(140, 64));
+  add("wing", Wing().MakePatch(100, 40, 6));
+  add("stabilizer", Stabilizer().MakePatch(60, 28, 5));
+  add("fin", Fin().MakePatch(36, 32, 5));
+  add("engine_left", Engine(7.7).MakePatch(40, 32));
+  add("engine_right", Engine(-7.7).MakePatch(40, 32));
+  add("pylon_left", Pylon(7.7).MakePatch(10, 24, 4));
+  add("pylon_right", Pylon(-7.7).MakePatch(10, 24, 4));
+  add("camera_fairing", CameraFairing().MakePatch(40, 32));
+  const RigClearance r = CheckRigClearance(scene, fuselage_body);
   if (clearance != nullptr) *clearance = r;
   return scene;
 }

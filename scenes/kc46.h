@@ -17,6 +17,6 @@ struct RigClearance {
 /// engine_right, pylon_left, pylon_right, camera_fairing; one grey material.
 /// Origin = tanker frame origin (fuselage centre line, mid length).
 /// Throws if any geometry lies inside the cameras' view or below the rig's limits.
-SceneModel build_kc46(RigClearance* clearance);
+SceneModel BuildKc46(RigClearance* clearance);
 
 }  // namespace aar::scenes

@@ -27,7 +27,7 @@ struct Options {
   BoardSpec board;                           ///< thesis board: 16 x 17 inner corners, 0.5 m squares
 };
 
-void print_box(const char* label, const Box3& b) {
+void PrintBox(const char* label, const Box3& b) {
   const Vec3 size = b.size();
   std::printf("  %-11s x [%8.3f, %8.3f]  y [%8.3f, %8.3f]  z [%8.3f, %8.3f]  size %.3f x %.3f x %.3f m\n", label,
               b.min.x(), b.max.x(), b.min.y(), b.max.y(), b.min.z(), b.max.z(), size.x(), size.y(), size.z());
@@ -35,7 +35,7 @@ void print_box(const char* label, const Box3& b) {
 
 /// Prints per-node and whole-model triangle counts, bounding boxes (body
 /// axes), enclosed volumes and, for textured models, texel densities.
-void report(const SceneModel& scene, const std::filesystem::path& file, int atlas_size) {
+void Report(const SceneModel& scene, const std::filesystem::path& file, int atlas_size) {
   std::printf("%s: %s, %ju bytes (%.2f MiB)\n", scene.name.c_str(), file.string().c_str(),
               static_cast<std::uintmax_t>(std::filesystem::file_size(file)),
               static_cast<double>(std::filesystem::file_size(file)) / (1024.0 * 1024.0));
@@ -50,19 +50,19 @@ void report(const SceneModel& scene, const std::filesystem::path& file, int atla
       for (std::uint32_t i : prim.mesh.indices) merged.indices.push_back(base + i);
     }
     std::printf("  node %-16s %6zu triangles, %6zu vertices, volume %8.3f m^3, area %8.2f m^2", node.name.c_str(),
-                merged.triangle_count(), merged.positions.size(), signed_volume(merged), surface_area(merged));
+                merged.TriangleCount(), merged.positions.size(), SignedVolume(merged), SurfaceArea(merged));
     if (!merged.uvs.empty()) {
-      const TexelDensity d = texel_density(merged, atlas_size, atlas_size, 60.0);
+      const TexelDensity d = MeasureTexelDensity(merged, atlas_size, atlas_size, 60.0);
       std::printf(", texels/m p01 %.0f median %.0f, area < 60/m %.2f %%", d.p01_per_m, d.median_per_m,
                   100.0 * d.share_below);
     }
     std::printf("\n");
-    print_box("", bounding_box(merged.positions));
+    PrintBox("", BoundingBox(merged.positions));
     all.insert(all.end(), merged.positions.begin(), merged.positions.end());
-    triangles += merged.triangle_count();
+    triangles += merged.TriangleCount();
   }
   std::printf("  total %zu triangles, %zu vertices\n", triangles, all.size());
-  print_box("bbox (body)", bounding_box(all));
+  PrintBox("bbox (body)", BoundingBox(all));
 }
 
 }  // namespace
@@ -81,10 +81,10 @@ int main(int argc, char** argv) {
     const auto start = std::chrono::steady_clock::now();
 
     C12Info info;
-    const SceneModel c12 = build_c12(options.c12, &info);
+    const SceneModel c12 = BuildC12(options.c12, &info);
     const auto c12_path = options.out_dir / "c12.glb";
-    write_glb(c12, c12_path);
-    report(c12, c12_path, options.c12.atlas_size);
+    WriteGlb(c12, c12_path);
+    Report(c12, c12_path, options.c12.atlas_size);
     std::printf("  reference point (origin): %.3f m aft of the nose tip; wing MAC %.3f m at |y| = %.3f m\n",
                 info.reference_station_m, info.mac_m, info.mac_span_station_m);
     std::printf("  texture %dx%d RGB PNG, %zu bytes, nominal %.1f texels/m, %d levels per channel\n",
@@ -92,18 +92,18 @@ int main(int argc, char** argv) {
                 options.c12.colour_levels);
 
     RigClearance clearance;
-    const SceneModel kc46 = build_kc46(&clearance);
+    const SceneModel kc46 = BuildKc46(&clearance);
     const auto kc46_path = options.out_dir / "kc46.glb";
-    write_glb(kc46, kc46_path);
-    report(kc46, kc46_path, 0);
+    WriteGlb(kc46, kc46_path);
+    Report(kc46, kc46_path, 0);
     std::printf("  rig clearance: fuselage underside at x=-20: z=%.3f m; lowest point near the cameras: z=%.3f m; "
                 "points inside the cameras' view: %zu\n",
                 clearance.fuselage_bottom_at_rig_m, clearance.lowest_near_rig_m, clearance.vertices_in_view);
 
-    const SceneModel board = build_calib_board(options.board);
+    const SceneModel board = BuildCalibBoard(options.board);
     const auto board_path = options.out_dir / "calib_board.glb";
-    write_glb(board, board_path);
-    report(board, board_path, 0);
+    WriteGlb(board, board_path);
+    Report(board, board_path, 0);
 
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("generated in %.1f s\n", seconds);

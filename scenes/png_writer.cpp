@@ -4,26 +4,26 @@
 
 #include <array>
 #include <cstdlib>
-#include <stdexcept>
+#include "aar/error.h"
 #include <string_view>
 
 namespace aar::scenes {
 namespace {
 
-void put_u32(std::vector<std::uint8_t>& out, std::uint32_t v) {
+void PutU32(std::vector<std::uint8_t>& out, std::uint32_t v) {
   for (int shift = 24; shift >= 0; shift -= 8) out.push_back(static_cast<std::uint8_t>(v >> shift));
 }
 
-void put_chunk(std::vector<std::uint8_t>& out, std::string_view type, const std::vector<std::uint8_t>& data) {
-  put_u32(out, static_cast<std::uint32_t>(data.size()));
+void PutChunk(std::vector<std::uint8_t>& out, std::string_view type, const std::vector<std::uint8_t>& data) {
+  PutU32(out, static_cast<std::uint32_t>(data.size()));
   const std::size_t type_at = out.size();
   out.insert(out.end(), type.begin(), type.end());
   out.insert(out.end(), data.begin(), data.end());
   const uLong crc = crc32(0L, out.data() + type_at, static_cast<uInt>(out.size() - type_at));
-  put_u32(out, static_cast<std::uint32_t>(crc));
+  PutU32(out, static_cast<std::uint32_t>(crc));
 }
 
-int paeth(int a, int b, int c) {
+int Paeth(int a, int b, int c) {
   const int p = a + b - c;
   const int pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
   if (pa <= pb && pa <= pc) return a;
@@ -32,10 +32,10 @@ int paeth(int a, int b, int c) {
 
 }  // namespace
 
-std::vector<std::uint8_t> encode_png_rgb(int width, int height, const std::vector<std::uint8_t>& rgb) {
+std::vector<std::uint8_t> EncodePngRgb(int width, int height, const std::vector<std::uint8_t>& rgb) {
   const std::size_t stride = static_cast<std::size_t>(width) * 3;
   if (rgb.size() != stride * static_cast<std::size_t>(height)) {
-    throw std::invalid_argument("encode_png_rgb: size mismatch");
+    throw Error("EncodePngRgb: size mismatch");
   }
   // Filtered scanlines: for every row the filter with the smallest sum of
   // absolute (signed) residuals, the usual PNG heuristic.
@@ -55,7 +55,7 @@ std::vector<std::uint8_t> encode_png_rgb(int width, int height, const std::vecto
       candidates[1][i] = static_cast<std::uint8_t>(x - a);
       candidates[2][i] = static_cast<std::uint8_t>(x - b);
       candidates[3][i] = static_cast<std::uint8_t>(x - (a + b) / 2);
-      candidates[4][i] = static_cast<std::uint8_t>(x - paeth(a, b, c));
+      candidates[4][i] = static_cast<std::uint8_t>(x - Paeth(a, b, c));
     }
     std::size_t best = 0;
     long best_cost = -1;
@@ -75,18 +75,18 @@ std::vector<std::uint8_t> encode_png_rgb(int width, int height, const std::vecto
   std::vector<std::uint8_t> compressed(compressed_size);
   if (compress2(compressed.data(), &compressed_size, filtered.data(), static_cast<uLong>(filtered.size()),
                 Z_BEST_COMPRESSION) != Z_OK) {
-    throw std::runtime_error("encode_png_rgb: zlib compression failed");
+    throw Error("EncodePngRgb: zlib compression failed");
   }
   compressed.resize(compressed_size);
 
   std::vector<std::uint8_t> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   std::vector<std::uint8_t> header;
-  put_u32(header, static_cast<std::uint32_t>(width));
-  put_u32(header, static_cast<std::uint32_t>(height));
+  PutU32(header, static_cast<std::uint32_t>(width));
+  PutU32(header, static_cast<std::uint32_t>(height));
   header.insert(header.end(), {8, 2, 0, 0, 0});  // 8-bit, truecolour, deflate, adaptive filters, no interlace
-  put_chunk(png, "IHDR", header);
-  put_chunk(png, "IDAT", compressed);
-  put_chunk(png, "IEND", {});
+  PutChunk(png, "IHDR", header);
+  PutChunk(png, "IDAT", compressed);
+  PutChunk(png, "IEND", {});
   return png;
 }
 

@@ -8,6 +8,6 @@
 namespace aar::scenes {
 
 /// Encodes `rgb` (width * height * 3 bytes, rows top to bottom) as a PNG file image.
-std::vector<std::uint8_t> encode_png_rgb(int width, int height, const std::vector<std::uint8_t>& rgb);
+std::vector<std::uint8_t> EncodePngRgb(int width, int height, const std::vector<std::uint8_t>& rgb);
 
 }  // namespace aar::scenes

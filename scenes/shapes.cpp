@@ -4,7 +4,7 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
-#include <stdexcept>
+#include "aar/error.h"
 #include <utility>
 
 namespace aar::scenes {
@@ -13,10 +13,10 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 /// sign(x) * |x|^e
-double signed_pow(double x, double e) { return std::copysign(std::pow(std::abs(x), e), x); }
+double SignedPow(double x, double e) { return std::copysign(std::pow(std::abs(x), e), x); }
 
 /// NACA 4-digit half thickness (closed trailing edge) at chord fraction x, per unit chord.
-double naca_half_thickness(double x, double t) {
+double NacaHalfThickness(double x, double t) {
   if (x >= 1.0) return 0.0;  // exactly closed trailing edge (the polynomial leaves ~1e-17)
   return 5.0 * t *
          (0.2969 * std::sqrt(x) - 0.1260 * x - 0.3516 * x * x + 0.2843 * x * x * x -
@@ -24,7 +24,7 @@ double naca_half_thickness(double x, double t) {
 }
 
 /// NACA 4-digit camber line (maximum `m` at 40 % chord), per unit chord.
-double naca_camber(double x, double m) {
+double NacaCamber(double x, double m) {
   constexpr double p = 0.4;
   if (x < p) return m / (p * p) * (2 * p * x - x * x);
   return m / ((1 - p) * (1 - p)) * ((1 - 2 * p) + 2 * p * x - x * x);
@@ -32,13 +32,13 @@ double naca_camber(double x, double m) {
 
 /// Section parameter sigma in [0, 1] -> chord fraction (cosine spacing):
 /// 0 trailing edge (lower), 0.5 leading edge, 1 trailing edge (upper).
-double chord_fraction_of_sigma(double sigma) { return 0.5 * (1.0 + std::cos(2.0 * kPi * sigma)); }
+double ChordFractionOfSigma(double sigma) { return 0.5 * (1.0 + std::cos(2.0 * kPi * sigma)); }
 
 /// Section point (chordwise from the leading edge, along the thickness axis), per unit chord.
-Vec2 section_point(double sigma, double thickness, double camber) {
-  const double x = chord_fraction_of_sigma(sigma);
-  const double half = naca_half_thickness(x, thickness);
-  return {x, naca_camber(x, camber) + (sigma >= 0.5 ? half : -half)};
+Vec2 SectionPoint(double sigma, double thickness, double camber) {
+  const double x = ChordFractionOfSigma(sigma);
+  const double half = NacaHalfThickness(x, thickness);
+  return {x, NacaCamber(x, camber) + (sigma >= 0.5 ? half : -half)};
 }
 
 }  // namespace
@@ -48,12 +48,12 @@ Vec2 section_point(double sigma, double thickness, double camber) {
 
 namespace {
 
-Vec3 body_section_point(const BodyTables& t, const Vec3& nose, double s, double phi) {
+Vec3 BodySectionPoint(const BodyTables& t, const Vec3& nose, double s, double phi) {
   const double e = 2.0 / t.exponent;
   const double zw = t.z_breadth(s);
-  const double zeta = signed_pow(-std::cos(phi), e);
+  const double zeta = SignedPow(-std::cos(phi), e);
   const double z = zeta >= 0 ? zw + zeta * (t.z_top(s) - zw) : zw + zeta * (zw - t.z_bottom(s));
-  const double y = t.half_width(s) * signed_pow(std::sin(phi), e);
+  const double y = t.half_width(s) * SignedPow(std::sin(phi), e);
   return nose + Vec3(-s, y, z);
 }
 
@@ -74,8 +74,8 @@ Body::Body(BodyTables tables, Vec3 nose, double length)
     double step = 0.0;
     for (int k = 0; k < kMeridians; ++k) {
       const double phi = 2.0 * kPi * k / kMeridians;
-      step = std::max(step, (body_section_point(tables_, nose_, s1, phi) -
-                             body_section_point(tables_, nose_, s0, phi)).norm());
+      step = std::max(step, (BodySectionPoint(tables_, nose_, s1, phi) -
+                             BodySectionPoint(tables_, nose_, s0, phi)).norm());
     }
     total += step;
     arc.push_back(total);
@@ -83,8 +83,8 @@ Body::Body(BodyTables tables, Vec3 nose, double length)
     if (i % 20 == 0) {
       double perimeter = 0.0;
       for (int k = 0; k < kAround; ++k) {
-        perimeter += (body_section_point(tables_, nose_, s1, 2.0 * kPi * (k + 1) / kAround) -
-                      body_section_point(tables_, nose_, s1, 2.0 * kPi * k / kAround)).norm();
+        perimeter += (BodySectionPoint(tables_, nose_, s1, 2.0 * kPi * (k + 1) / kAround) -
+                      BodySectionPoint(tables_, nose_, s1, 2.0 * kPi * k / kAround)).norm();
       }
       max_perimeter_m_ = std::max(max_perimeter_m_, perimeter);
     }
@@ -94,21 +94,21 @@ Body::Body(BodyTables tables, Vec3 nose, double length)
   station_of_u_ = Profile(std::move(arc), std::move(stations));
 }
 
-double Body::station(double u) const { return station_of_u_(u); }
+double Body::Station(double u) const { return station_of_u_(u); }
 
-double Body::section_height(double v) const {
-  return signed_pow(-std::cos(2.0 * kPi * v), 2.0 / tables_.exponent);
+double Body::SectionHeight(double v) const {
+  return SignedPow(-std::cos(2.0 * kPi * v), 2.0 / tables_.exponent);
 }
 
-Vec3 Body::point(double u, double v) const {
-  return body_section_point(tables_, nose_, station(u), 2.0 * kPi * (v - std::floor(v)));  // v = 1 is exactly v = 0
+Vec3 Body::Point(double u, double v) const {
+  return BodySectionPoint(tables_, nose_, Station(u), 2.0 * kPi * (v - std::floor(v)));  // v = 1 is exactly v = 0
 }
 
-Patch Body::patch(int rings, int around) const {
+Patch Body::MakePatch(int rings, int around) const {
   Patch p;
-  p.point = [self = std::make_shared<Body>(*this)](double u, double v) { return self->point(u, v); };
-  p.u_samples = uniform_samples(rings);
-  p.v_samples = uniform_samples(around);
+  p.point = [self = std::make_shared<Body>(*this)](double u, double v) { return self->Point(u, v); };
+  p.u_samples = UniformSamples(rings);
+  p.v_samples = UniformSamples(around);
   p.periodic_v = true;
   p.length_u_m = meridian_m_;
   p.length_v_m = max_perimeter_m_;
@@ -120,7 +120,7 @@ Patch Body::patch(int rings, int around) const {
 
 LiftingSurface::LiftingSurface(const LiftingSurfaceSpec& spec) : spec_(spec) {
   if (spec_.cap_m <= 0 || spec_.cap_m * 2 >= spec_.semispan) {
-    throw std::invalid_argument("LiftingSurface: cap length must be in (0, semispan / 2)");
+    throw Error("LiftingSurface: cap length must be in (0, semispan / 2)");
   }
   thickness_axis_ = spec_.chord_axis.cross(spec_.span_axis).normalized();
 
@@ -145,7 +145,7 @@ LiftingSurface::LiftingSurface(const LiftingSurfaceSpec& spec) : spec_(spec) {
   double total = 0.0;
   for (int i = 1; i <= kSteps; ++i) {
     const double s0 = static_cast<double>(i - 1) / kSteps, s1 = static_cast<double>(i) / kSteps;
-    total += (section_point(s1, t_ref, spec_.camber) - section_point(s0, t_ref, spec_.camber)).norm();
+    total += (SectionPoint(s1, t_ref, spec_.camber) - SectionPoint(s0, t_ref, spec_.camber)).norm();
     sigma.push_back(s1);
     arc.push_back(total);
   }
@@ -158,7 +158,7 @@ LiftingSurface::LiftingSurface(const LiftingSurfaceSpec& spec) : spec_(spec) {
   v_of_sigma_ = Profile(std::move(sigma), std::move(arc));
 }
 
-LiftingSurface::SpanPoint LiftingSurface::span_point(double u) const {
+LiftingSurface::SpanPoint LiftingSurface::SpanPointAt(double u) const {
   const double e1 = root_station_ + spec_.cap_m, e2 = spec_.semispan - spec_.cap_m;
   u = std::clamp(u, 0.0, 1.0);
   // Within a cap: rounding angle a (0 where the cap starts, pi/2 at the end),
@@ -173,33 +173,33 @@ LiftingSurface::SpanPoint LiftingSurface::span_point(double u) const {
   return {e1 + (e2 - e1) * (u - u_root_cap_end_) / (u_tip_cap_start_ - u_root_cap_end_), 1.0};
 }
 
-double LiftingSurface::span_station(double u) const { return span_point(u).eta; }
+double LiftingSurface::SpanStation(double u) const { return SpanPointAt(u).eta; }
 
-double LiftingSurface::chord_fraction(double v) const { return chord_fraction_of_sigma(sigma_of_v_(v)); }
+double LiftingSurface::ChordFraction(double v) const { return ChordFractionOfSigma(sigma_of_v_(v)); }
 
-double LiftingSurface::chord(double eta) const {
+double LiftingSurface::Chord(double eta) const {
   return spec_.root_chord + (spec_.tip_chord - spec_.root_chord) * std::abs(eta) / spec_.semispan;
 }
 
-Vec3 LiftingSurface::leading_edge(double eta) const {
+Vec3 LiftingSurface::LeadingEdge(double eta) const {
   const double a = std::abs(eta);
   return spec_.root_leading_edge + spec_.span_axis * eta +
          thickness_axis_ * (a * std::tan(spec_.dihedral_deg * kPi / 180.0)) -
          spec_.chord_axis * (a * std::tan(spec_.le_sweep_deg * kPi / 180.0));
 }
 
-Vec3 LiftingSurface::point(double u, double v) const {
-  const auto [eta, scale] = span_point(u);
+Vec3 LiftingSurface::Point(double u, double v) const {
+  const auto [eta, scale] = SpanPointAt(u);
   const double a = std::abs(eta) / spec_.semispan;
   const double t = (spec_.root_thickness + (spec_.tip_thickness - spec_.root_thickness) * a) * scale;
-  const Vec2 q = section_point(sigma_of_v_(v), t, spec_.camber) * chord(eta);
-  return leading_edge(eta) - spec_.chord_axis * q.x() + thickness_axis_ * q.y();
+  const Vec2 q = SectionPoint(sigma_of_v_(v), t, spec_.camber) * Chord(eta);
+  return LeadingEdge(eta) - spec_.chord_axis * q.x() + thickness_axis_ * q.y();
 }
 
-Patch LiftingSurface::patch(int span_segments, int chord_segments, int cap_segments) const {
+Patch LiftingSurface::MakePatch(int span_segments, int chord_segments, int cap_segments) const {
   Patch p;
   p.point = [self = std::make_shared<LiftingSurface>(*this)](double u, double v) {
-    return self->point(u, v);
+    return self->Point(u, v);
   };
   // Rows: uniform in the rounding angle over each end cap, uniform in span between.
   std::vector<double> rows;

@@ -32,13 +32,13 @@ class Body {
   /// x = nose.x - length.
   Body(BodyTables tables, Vec3 nose, double length);
 
-  Vec3 point(double u, double v) const;
-  double station(double u) const;                   ///< s of texture row u
+  Vec3 Point(double u, double v) const;
+  double Station(double u) const;                   ///< s of texture row u
   /// Normalised section height: -1 at the bottom, 0 at the widest point, +1 at the top.
-  double section_height(double v) const;
+  double SectionHeight(double v) const;
   const BodyTables& tables() const { return tables_; }
   /// Patch with `rings` + 1 sections (uniform in u) and `around` + 1 columns.
-  Patch patch(int rings, int around) const;
+  Patch MakePatch(int rings, int around) const;
 
  private:
   BodyTables tables_;
@@ -73,27 +73,27 @@ class LiftingSurface {
  public:
   explicit LiftingSurface(const LiftingSurfaceSpec& spec);
 
-  Vec3 point(double u, double v) const;
+  Vec3 Point(double u, double v) const;
   /// Span station of texture row u (-semispan..semispan, or 0..semispan).
-  double span_station(double u) const;
+  double SpanStation(double u) const;
   /// Chord fraction (0 at the leading edge, 1 at the trailing edge) of column v.
-  double chord_fraction(double v) const;
-  static bool upper_side(double v) { return v >= 0.5; }
-  double chord(double span_station) const;
+  double ChordFraction(double v) const;
+  static bool IsUpperSide(double v) { return v >= 0.5; }
+  double Chord(double span_station) const;
   /// Leading-edge point at a span station (body axes).
-  Vec3 leading_edge(double span_station) const;
+  Vec3 LeadingEdge(double span_station) const;
   const LiftingSurfaceSpec& spec() const { return spec_; }
   /// Patch with `span_segments` rows between the rounded ends, `cap_segments`
   /// rows across each end and `chord_segments` columns around the section
   /// (cosine spaced: dense at the leading and trailing edges).
-  Patch patch(int span_segments, int chord_segments, int cap_segments) const;
+  Patch MakePatch(int span_segments, int chord_segments, int cap_segments) const;
 
  private:
   struct SpanPoint {
     double eta;    ///< span station
     double scale;  ///< thickness factor, < 1 in the rounded end caps, 0 at the very ends
   };
-  SpanPoint span_point(double u) const;
+  SpanPoint SpanPointAt(double u) const;
 
   LiftingSurfaceSpec spec_;
   Vec3 thickness_axis_;

@@ -12,7 +12,7 @@ RgbImage::RgbImage(int width, int height, int levels)
     : width_(width), height_(height), levels_(levels),
       pixels_(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3, 0) {}
 
-void RgbImage::set(int x, int y, const Color& c) {
+void RgbImage::Set(int x, int y, const Color& c) {
   const std::size_t at = (static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) +
                           static_cast<std::size_t>(x)) * 3;
   for (int k = 0; k < 3; ++k) {
@@ -21,7 +21,7 @@ void RgbImage::set(int x, int y, const Color& c) {
   }
 }
 
-std::uint64_t hash64(std::uint64_t seed, std::int64_t a, std::int64_t b, std::int64_t c) {
+std::uint64_t Hash64(std::uint64_t seed, std::int64_t a, std::int64_t b, std::int64_t c) {
   auto mix = [](std::uint64_t z) {
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
@@ -33,8 +33,8 @@ std::uint64_t hash64(std::uint64_t seed, std::int64_t a, std::int64_t b, std::in
   return mix(h ^ static_cast<std::uint64_t>(c));
 }
 
-double hash01(std::uint64_t seed, std::int64_t a, std::int64_t b, std::int64_t c) {
-  return static_cast<double>(hash64(seed, a, b, c) >> 11) * 0x1.0p-53;
+double Hash01(std::uint64_t seed, std::int64_t a, std::int64_t b, std::int64_t c) {
+  return static_cast<double>(Hash64(seed, a, b, c) >> 11) * 0x1.0p-53;
 }
 
 double ValueNoise::operator()(const Vec3& p) const {
@@ -44,7 +44,7 @@ double ValueNoise::operator()(const Vec3& p) const {
   auto fade = [](double t) { return t * t * t * (t * (t * 6 - 15) + 10); };
   const double tx = fade(p.x() - fx), ty = fade(p.y() - fy), tz = fade(p.z() - fz);
   auto lattice = [&](std::int64_t dx, std::int64_t dy, std::int64_t dz) {
-    return 2.0 * hash01(seed_, ix + dx, iy + dy, iz + dz) - 1.0;
+    return 2.0 * Hash01(seed_, ix + dx, iy + dy, iz + dz) - 1.0;
   };
   auto lerp = [](double a, double b, double t) { return a + (b - a) * t; };
   const double x00 = lerp(lattice(0, 0, 0), lattice(1, 0, 0), tx);
@@ -103,7 +103,7 @@ constexpr Glyph kFont[] = {
     {'-', {".....", ".....", ".....", ".###.", ".....", ".....", "....."}},
 };
 
-const Glyph* find_glyph(char c) {
+const Glyph* FindGlyph(char c) {
   for (const Glyph& g : kFont) {
     if (g.c == c) return &g;
   }
@@ -112,7 +112,7 @@ const Glyph* find_glyph(char c) {
 
 }  // namespace
 
-bool text_ink(std::string_view text, double x, double y, double height) {
+bool TextInk(std::string_view text, double x, double y, double height) {
   const double unit = height / 7.0;
   const double width = (6.0 * static_cast<double>(text.size()) - 1.0) * unit;
   const double cx = (x + 0.5 * width) / unit, cy = (0.5 * height - y) / unit;
@@ -120,23 +120,23 @@ bool text_ink(std::string_view text, double x, double y, double height) {
   const auto col = static_cast<std::size_t>(cx), row = static_cast<std::size_t>(cy);
   const std::size_t in_cell = col % 6;
   if (in_cell == 5) return false;  // letter spacing
-  const Glyph* g = find_glyph(text[col / 6]);
+  const Glyph* g = FindGlyph(text[col / 6]);
   return g != nullptr && g->rows[row][in_cell] == '#';
 }
 
-bool in_rounded_rect(double x, double y, double hx, double hy, double r) {
+bool InRoundedRect(double x, double y, double hx, double hy, double r) {
   const double dx = std::abs(x) - (hx - r), dy = std::abs(y) - (hy - r);
   if (dx > r || dy > r) return false;
   if (dx <= 0 || dy <= 0) return true;
   return dx * dx + dy * dy <= r * r;
 }
 
-double distance_to_grid(double x, double spacing, double phase) {
+double DistanceToGrid(double x, double spacing, double phase) {
   const double t = (x - phase) / spacing;
   return std::abs(t - std::round(t)) * spacing;
 }
 
-AtlasLayout pack_atlas(const std::vector<const Patch*>& patches, int width, int height, int gutter) {
+AtlasLayout PackAtlas(const std::vector<const Patch*>& patches, int width, int height, int gutter) {
   // Tallest first (stable), left to right on shelves.
   std::vector<std::size_t> order(patches.size());
   std::iota(order.begin(), order.end(), 0);
@@ -178,7 +178,7 @@ AtlasLayout pack_atlas(const std::vector<const Patch*>& patches, int width, int 
   return layout;
 }
 
-void bake(RgbImage& image, const AtlasRect& rect, int gutter, bool periodic_v, const PaintFn& paint) {
+void Bake(RgbImage& image, const AtlasRect& rect, int gutter, bool periodic_v, const PaintFn& paint) {
   const int x_begin = std::max(0, static_cast<int>(rect.x0) - gutter);
   const int x_end = std::min(image.width(), static_cast<int>(rect.x0 + rect.width) + gutter);
   const int y_begin = std::max(0, static_cast<int>(rect.y0) - gutter);
@@ -191,7 +191,7 @@ void bake(RgbImage& image, const AtlasRect& rect, int gutter, bool periodic_v, c
       v = periodic_v ? v - std::floor(v) : std::clamp(v, 0.0, 1.0);
       for (int x = x_begin; x < x_end; ++x) {
         const double u = std::clamp((x + 0.5 - rect.x0) / rect.width, 0.0, 1.0);
-        image.set(x, y, paint(u, v));
+        image.Set(x, y, paint(u, v));
       }
     }
   };

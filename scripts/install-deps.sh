@@ -10,7 +10,7 @@ packages=(
   libopenimageio-dev openimageio-tools
   libopencv-dev libeigen3-dev libceres-dev
   libcli11-dev libnanoflann-dev libgtest-dev libgmock-dev libssl-dev
-  python3 python3-matplotlib
+  python3 python3-matplotlib python3-imath
 )
 
 SUDO=""

@@ -9,6 +9,7 @@
 #include <tiny_gltf.h>
 
 #include "aar/error.h"
+#include "aar/gltf_accessor.h"
 #include "aar/gltf_scene.h"
 
 namespace aar {
@@ -20,68 +21,6 @@ bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int
   return true;
 }
 
-// Bounds-checked view of an accessor's elements inside its buffer.
-struct AccessorView {
-  const unsigned char* data = nullptr;
-  size_t stride = 0;
-  size_t count = 0;
-  int component_type = 0;
-};
-
-AccessorView ViewAccessor(const tinygltf::Model& model, int index, const std::string& where) {
-  if (index < 0 || static_cast<size_t>(index) >= model.accessors.size()) {
-    throw Error(where + ": accessor " + std::to_string(index) + " does not exist");
-  }
-  const tinygltf::Accessor& accessor = model.accessors[static_cast<size_t>(index)];
-  if (accessor.sparse.isSparse) throw Error(where + ": sparse accessors are not supported");
-  if (accessor.bufferView < 0 || static_cast<size_t>(accessor.bufferView) >= model.bufferViews.size()) {
-    throw Error(where + ": accessor " + std::to_string(index) + " has no valid bufferView");
-  }
-  const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(accessor.bufferView)];
-  if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size()) {
-    throw Error(where + ": bufferView " + std::to_string(accessor.bufferView) + " has no valid buffer");
-  }
-  const tinygltf::Buffer& buffer = model.buffers[static_cast<size_t>(view.buffer)];
-  const int stride = accessor.ByteStride(view);
-  const int element_size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(accessor.componentType)) *
-                           tinygltf::GetNumComponentsInType(static_cast<uint32_t>(accessor.type));
-  if (stride <= 0 || element_size <= 0) throw Error(where + ": accessor " + std::to_string(index) + " is malformed");
-  const size_t begin = view.byteOffset + accessor.byteOffset;
-  const size_t needed = accessor.count == 0 ? 0 : (accessor.count - 1) * static_cast<size_t>(stride) + element_size;
-  if (view.byteOffset + view.byteLength > buffer.data.size() || accessor.byteOffset + needed > view.byteLength) {
-    throw Error(where + ": accessor " + std::to_string(index) + " reads past the end of its buffer");
-  }
-  return {buffer.data.data() + begin, static_cast<size_t>(stride), accessor.count, accessor.componentType};
-}
-
-std::vector<uint32_t> ReadIndices(const tinygltf::Model& model, int index, const std::string& where) {
-  const AccessorView view = ViewAccessor(model, index, where);  // validates the index
-  if (model.accessors[static_cast<size_t>(index)].type != TINYGLTF_TYPE_SCALAR) {
-    throw Error(where + ": index accessor is not SCALAR");
-  }
-  std::vector<uint32_t> indices(view.count);
-  for (size_t i = 0; i < view.count; ++i) {
-    const unsigned char* p = view.data + i * view.stride;
-    switch (view.component_type) {
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-        indices[i] = *p;
-        break;
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-        uint16_t v;
-        std::memcpy(&v, p, sizeof(v));
-        indices[i] = v;
-        break;
-      }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-        std::memcpy(&indices[i], p, sizeof(uint32_t));
-        break;
-      default:
-        throw Error(where + ": index accessor has a non-integer component type");
-    }
-  }
-  return indices;
-}
-
 // Appends one primitive's triangles, its vertices mapped by body_from_gltf_node.
 void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
                      const Eigen::Matrix4d& body_from_node, const std::string& where, TriangleMesh& mesh) {
@@ -91,31 +30,28 @@ void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& pr
   }
   const auto position = primitive.attributes.find("POSITION");
   if (position == primitive.attributes.end()) throw Error(where + ": primitive without POSITION");
-  const AccessorView view = ViewAccessor(model, position->second, where);  // validates the index
-  const tinygltf::Accessor& accessor = model.accessors[static_cast<size_t>(position->second)];
-  if (accessor.type != TINYGLTF_TYPE_VEC3 || view.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT) {
+  const GltfAccessor positions(model, position->second, where);
+  if (positions.type() != TINYGLTF_TYPE_VEC3 || positions.component_type() != TINYGLTF_COMPONENT_TYPE_FLOAT) {
     throw Error(where + ": POSITION must be a float VEC3 accessor");
   }
   const size_t base = mesh.vertices.size();
   const Eigen::Matrix3d linear = body_from_node.topLeftCorner<3, 3>();
   const Eigen::Vector3d offset = body_from_node.topRightCorner<3, 1>();
-  for (size_t i = 0; i < view.count; ++i) {
-    float xyz[3];
-    std::memcpy(xyz, view.data + i * view.stride, sizeof(xyz));
-    const Eigen::Vector3d p(xyz[0], xyz[1], xyz[2]);
+  for (size_t i = 0; i < positions.count(); ++i) {
+    const Eigen::Vector3d p(positions.Component(i, 0), positions.Component(i, 1), positions.Component(i, 2));
     if (!p.allFinite()) throw Error(where + ": POSITION holds a non-finite value");
     mesh.vertices.push_back(linear * p + offset);
   }
 
   std::vector<uint32_t> indices;
   if (primitive.indices >= 0) {
-    indices = ReadIndices(model, primitive.indices, where);
+    indices = ReadGltfIndices(model, primitive.indices, where);
   } else {
-    indices.resize(view.count);
-    for (size_t i = 0; i < view.count; ++i) indices[i] = static_cast<uint32_t>(i);
+    indices.resize(positions.count());
+    for (size_t i = 0; i < positions.count(); ++i) indices[i] = static_cast<uint32_t>(i);
   }
   for (const uint32_t i : indices) {
-    if (i >= view.count) throw Error(where + ": vertex index " + std::to_string(i) + " out of range");
+    if (i >= positions.count()) throw Error(where + ": vertex index " + std::to_string(i) + " out of range");
   }
   // A node transform with negative determinant mirrors the mesh; swapping two
   // corners keeps the winding counter-clockwise seen from outside.

@@ -56,4 +56,20 @@ std::string FormatFlightPath(const std::vector<FlightSample>& samples) {
   return out.str();
 }
 
+namespace {
+
+double Round(double value, double scale) { return std::round(value * scale) / scale; }
+
+}  // namespace
+
+FlightSample RoundToCsvPrecision(FlightSample s) {
+  s.time_s = Round(s.time_s, 1e3);
+  Pose& p = s.tanker_from_receiver;
+  for (int i = 0; i < 3; ++i) p.translation_m(i) = Round(p.translation_m(i), 1e4);
+  p.roll_deg = Round(p.roll_deg, 1e4);
+  p.pitch_deg = Round(p.pitch_deg, 1e4);
+  p.yaw_deg = Round(p.yaw_deg, 1e4);
+  return s;
+}
+
 }  // namespace aar

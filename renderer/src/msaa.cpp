@@ -41,10 +41,14 @@ std::vector<Vec2> StandardSampleLocations(int samples) {
   }
 }
 
-MsaaPlan PlanMsaa(int level, const std::vector<int>& native_counts) {
+void CheckMsaaLevel(int level) {
   if (!IsSupportedMsaaLevel(level)) {
     throw Error("--msaa " + std::to_string(level) + ": unknown MSAA level (use 1, 4, 8, 16 or 32)");
   }
+}
+
+MsaaPlan PlanMsaa(int level, const std::vector<int>& native_counts) {
+  CheckMsaaLevel(level);
   MsaaPlan plan;
   plan.level = level;
   if (std::find(native_counts.begin(), native_counts.end(), level) != native_counts.end()) {

@@ -4,69 +4,30 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <optional>
 
 #include <Eigen/Geometry>
 
 #include "aar/error.h"
+#include "aar/gltf_accessor.h"
 #include "aar/gltf_scene.h"
 
 namespace aar {
 namespace {
-
-// Reads accessor element i as up to 4 floats (float or normalized integer components).
-class AccessorReader {
- public:
-  AccessorReader(const tinygltf::Model& model, int accessor_index, const std::string& where) {
-    if (accessor_index < 0 || accessor_index >= static_cast<int>(model.accessors.size())) {
-      throw Error(where + ": bad accessor index");
-    }
-    accessor_ = &model.accessors[accessor_index];
-    if (accessor_->bufferView < 0) throw Error(where + ": sparse/empty accessors are not supported");
-    const tinygltf::BufferView& view = model.bufferViews.at(accessor_->bufferView);
-    const tinygltf::Buffer& buffer = model.buffers.at(view.buffer);
-    components_ = tinygltf::GetNumComponentsInType(accessor_->type);
-    component_size_ = tinygltf::GetComponentSizeInBytes(accessor_->componentType);
-    stride_ = accessor_->ByteStride(view);
-    if (components_ <= 0 || component_size_ <= 0 || stride_ <= 0) throw Error(where + ": malformed accessor");
-    const size_t offset = view.byteOffset + accessor_->byteOffset;
-    const size_t needed = accessor_->count == 0 ? 0 : offset + (accessor_->count - 1) * stride_ + components_ * component_size_;
-    if (needed > buffer.data.size()) throw Error(where + ": accessor runs past the end of its buffer");
-    data_ = buffer.data.data() + offset;
-  }
-  size_t count() const { return accessor_->count; }
-  double Component(size_t i, int c) const {
-    const unsigned char* p = data_ + i * stride_ + c * component_size_;
-    switch (accessor_->componentType) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, p, 4); return v; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, p, 4); return accessor_->normalized ? v / 4294967295.0 : v; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p, 2); return accessor_->normalized ? v / 65535.0 : v; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return accessor_->normalized ? *p / 255.0 : *p;
-      case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t v; std::memcpy(&v, p, 2); return accessor_->normalized ? std::max(v / 32767.0, -1.0) : v; }
-      case TINYGLTF_COMPONENT_TYPE_BYTE: { int8_t v; std::memcpy(&v, p, 1); return accessor_->normalized ? std::max(v / 127.0, -1.0) : v; }
-      default: return 0.0;
-    }
-  }
-  int components() const { return components_; }
-
- private:
-  const tinygltf::Accessor* accessor_ = nullptr;
-  const unsigned char* data_ = nullptr;
-  int components_ = 0;
-  int component_size_ = 0;
-  int stride_ = 0;
-};
 
 void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim, const Eigen::Matrix4d& body_from_node,
                      const std::string& where, std::vector<int>& texture_of_image, SceneModel& out) {
   if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) return;  // points and lines are not rendered
   const auto position = prim.attributes.find("POSITION");
   if (position == prim.attributes.end()) throw Error(where + ": primitive without POSITION");
-  AccessorReader positions(model, position->second, where);
-  std::optional<AccessorReader> normals, uvs;
+  const GltfAccessor positions(model, position->second, where);
+  std::optional<GltfAccessor> normals, uvs;
   if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) normals.emplace(model, it->second, where);
   if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) uvs.emplace(model, it->second, where);
+  if (positions.type() != TINYGLTF_TYPE_VEC3 || (normals && normals->type() != TINYGLTF_TYPE_VEC3) ||
+      (uvs && uvs->type() != TINYGLTF_TYPE_VEC2)) {
+    throw Error(where + ": POSITION and NORMAL must be VEC3 accessors, TEXCOORD_0 a VEC2 accessor");
+  }
 
   Primitive p;
   const Eigen::Matrix3d linear = body_from_node.topLeftCorner<3, 3>();
@@ -90,12 +51,9 @@ void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& pr
     v.uv[1] = uvs && i < uvs->count() ? static_cast<float>(uvs->Component(i, 1)) : 0.0f;
   }
   if (prim.indices >= 0) {
-    AccessorReader indices(model, prim.indices, where);
-    p.indices.resize(indices.count());
-    for (size_t i = 0; i < indices.count(); ++i) {
-      const double index = indices.Component(i, 0);
-      if (index < 0 || index >= static_cast<double>(p.vertices.size())) throw Error(where + ": index out of range");
-      p.indices[i] = static_cast<uint32_t>(index);
+    p.indices = ReadGltfIndices(model, prim.indices, where);
+    for (const uint32_t index : p.indices) {
+      if (index >= p.vertices.size()) throw Error(where + ": index out of range");
     }
   } else {
     p.indices.resize(p.vertices.size());

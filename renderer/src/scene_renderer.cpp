@@ -2,10 +2,17 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
 #include "aar/error.h"
+#include "aar/renderer/pipeline_builder.h"
 #include "aar/renderer/projection.h"
+#include "aar/renderer/render_target.h"
 #include "spirv/depth_frag.h"
 #include "spirv/scene_frag.h"
 #include "spirv/scene_vert.h"
@@ -15,53 +22,21 @@ namespace {
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // linear colour, averaged by the resolve
 constexpr VkFormat kTruthFormat = VK_FORMAT_R32G32_SFLOAT;        // depth [m], object id
-constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr uint32_t kMaxTextures = 64;
 
+// The push-constant block of shaders/scene.vert, scene.frag and depth.frag,
+// member for member (std430 offsets 0, 64, 112; no padding).
 struct PushConstants {
-  float clip_from_object[16];            // column-major
-  float tanker_from_object_rows[3][4];   // rotation rows
-  float base_color_factor[4];
+  glm::mat4 clip_from_object;            // column-major, as Eigen's
+  glm::vec4 tanker_from_object_rows[3];  // rotation rows (xyz; w unused, 0)
+  glm::vec4 base_color_factor;           // linear RGBA; .a carries the object id in the ground-truth pass
 };
+static_assert(offsetof(PushConstants, tanker_from_object_rows) == 64 && offsetof(PushConstants, base_color_factor) == 112,
+              "push constants must match the GLSL block's layout");
 static_assert(sizeof(PushConstants) == 128, "push constants must fit the guaranteed 128 bytes");
 
 double MillisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
-float HalfToFloat(uint16_t h) {
-  const uint32_t sign = (h & 0x8000u) << 16;
-  uint32_t exponent = (h >> 10) & 0x1f;
-  uint32_t mantissa = h & 0x3ffu;
-  uint32_t bits;
-  if (exponent == 0) {
-    if (mantissa == 0) {
-      bits = sign;
-    } else {  // subnormal: normalise
-      exponent = 127 - 15 + 1;
-      while ((mantissa & 0x400u) == 0) {
-        mantissa <<= 1;
-        --exponent;
-      }
-      bits = sign | (exponent << 23) | ((mantissa & 0x3ffu) << 13);
-    }
-  } else if (exponent == 31) {
-    bits = sign | 0x7f800000u | (mantissa << 13);
-  } else {
-    bits = sign | ((exponent + 127 - 15) << 23) | (mantissa << 13);
-  }
-  float f;
-  std::memcpy(&f, &bits, 4);
-  return f;
-}
-
-VkShaderModule CreateShader(VkDevice device, const uint32_t* code, size_t bytes) {
-  VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  info.codeSize = bytes;
-  info.pCode = code;
-  VkShaderModule module = VK_NULL_HANDLE;
-  VkCheck(vkCreateShaderModule(device, &info, nullptr, &module), "vkCreateShaderModule");
-  return module;
 }
 
 }  // namespace
@@ -81,22 +56,18 @@ struct SceneRenderer::GpuModel {
 };
 
 struct SceneRenderer::Target {
-  VkDevice device = VK_NULL_HANDLE;
-  int samples = 1;
-  bool ground_truth = false;
-  GpuImage color;    // multisampled when samples > 1
-  GpuImage depth;
-  GpuImage resolve;  // single-sample copy source when samples > 1
-  VkRenderPass render_pass = VK_NULL_HANDLE;
-  VkFramebuffer framebuffer = VK_NULL_HANDLE;
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  std::array<float, 3> background{};  // a resolved sky pixel as this target produces it
-  const GpuImage& Output() const { return samples > 1 ? resolve : color; }
+  Target(VulkanContext& context, uint32_t width, uint32_t height, int samples, VkFormat color_format)
+      : frame(context, width, height, samples, color_format), device(context.device()) {}
   ~Target() {
     if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
-    if (framebuffer) vkDestroyFramebuffer(device, framebuffer, nullptr);
-    if (render_pass) vkDestroyRenderPass(device, render_pass, nullptr);
   }
+  Target(const Target&) = delete;
+  Target& operator=(const Target&) = delete;
+
+  RenderTarget frame;
+  VkDevice device = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  std::array<float, 3> background{};  // a resolved sky pixel as this target produces it
 };
 
 SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, const SceneRendererOptions& options)
@@ -138,9 +109,9 @@ SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, cons
   sampler.maxLod = VK_LOD_CLAMP_NONE;
   VkCheck(vkCreateSampler(device, &sampler, nullptr, &sampler_), "vkCreateSampler");
 
-  vert_ = CreateShader(device, kSpirv_scene_vert, sizeof(kSpirv_scene_vert));
-  frag_ = CreateShader(device, kSpirv_scene_frag, sizeof(kSpirv_scene_frag));
-  depth_frag_ = CreateShader(device, kSpirv_depth_frag, sizeof(kSpirv_depth_frag));
+  vert_ = CreateShaderModule(device, kSpirv_scene_vert, sizeof(kSpirv_scene_vert));
+  frag_ = CreateShaderModule(device, kSpirv_scene_frag, sizeof(kSpirv_scene_frag));
+  depth_frag_ = CreateShaderModule(device, kSpirv_depth_frag, sizeof(kSpirv_depth_frag));
 
   readback_ = GpuBuffer(context_, static_cast<VkDeviceSize>(width_) * height_ * 8, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                         /*host_visible=*/true);
@@ -250,133 +221,16 @@ int SceneRenderer::AddModel(const SceneModel& model) {
 SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) {
   auto& slot = targets_[{samples, ground_truth}];
   if (slot) return *slot;
-  auto t = std::make_unique<Target>();
-  t->device = context_.device();
-  t->samples = samples;
-  t->ground_truth = ground_truth;
-  const VkFormat color_format = ground_truth ? kTruthFormat : kColorFormat;
-  const auto sample_bits = static_cast<VkSampleCountFlagBits>(samples);
   const uint32_t w = static_cast<uint32_t>(width_), h = static_cast<uint32_t>(height_);
-  GpuImageDesc color{w, h, 1, color_format, sample_bits,
-                     static_cast<VkImageUsageFlags>(VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
-                                                    (samples == 1 ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0)),
-                     VK_IMAGE_ASPECT_COLOR_BIT};
-  t->color = GpuImage(context_, color);
-  t->depth = GpuImage(context_, {w, h, 1, kDepthFormat, sample_bits, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                                 VK_IMAGE_ASPECT_DEPTH_BIT});
-  if (samples > 1) {
-    t->resolve = GpuImage(context_, {w, h, 1, color_format, VK_SAMPLE_COUNT_1_BIT,
-                                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                                     VK_IMAGE_ASPECT_COLOR_BIT});
-  }
-
-  std::vector<VkAttachmentDescription> attachments(samples > 1 ? 3 : 2);
-  attachments[0] = {0, color_format, sample_bits, VK_ATTACHMENT_LOAD_OP_CLEAR,
-                    samples > 1 ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
-                    VK_ATTACHMENT_LOAD_OP_DONT_CARE, VK_ATTACHMENT_STORE_OP_DONT_CARE, VK_IMAGE_LAYOUT_UNDEFINED,
-                    samples > 1 ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
-  attachments[1] = {0, kDepthFormat, sample_bits, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_DONT_CARE,
-                    VK_ATTACHMENT_LOAD_OP_DONT_CARE, VK_ATTACHMENT_STORE_OP_DONT_CARE, VK_IMAGE_LAYOUT_UNDEFINED,
-                    VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-  if (samples > 1) {
-    attachments[2] = {0, color_format, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-                      VK_ATTACHMENT_STORE_OP_STORE, VK_ATTACHMENT_LOAD_OP_DONT_CARE, VK_ATTACHMENT_STORE_OP_DONT_CARE,
-                      VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
-  }
-  VkAttachmentReference color_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-  VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-  VkAttachmentReference resolve_ref{2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-  VkSubpassDescription subpass{};
-  subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-  subpass.colorAttachmentCount = 1;
-  subpass.pColorAttachments = &color_ref;
-  subpass.pDepthStencilAttachment = &depth_ref;
-  subpass.pResolveAttachments = samples > 1 ? &resolve_ref : nullptr;
-  VkSubpassDependency dependency{};
-  dependency.srcSubpass = 0;
-  dependency.dstSubpass = VK_SUBPASS_EXTERNAL;
-  dependency.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-  dependency.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-  dependency.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-  dependency.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-  VkRenderPassCreateInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-  rp.attachmentCount = static_cast<uint32_t>(attachments.size());
-  rp.pAttachments = attachments.data();
-  rp.subpassCount = 1;
-  rp.pSubpasses = &subpass;
-  rp.dependencyCount = 1;
-  rp.pDependencies = &dependency;
-  VkCheck(vkCreateRenderPass(t->device, &rp, nullptr, &t->render_pass), "vkCreateRenderPass");
-
-  std::vector<VkImageView> views = {t->color.view(), t->depth.view()};
-  if (samples > 1) views.push_back(t->resolve.view());
-  VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-  fb.renderPass = t->render_pass;
-  fb.attachmentCount = static_cast<uint32_t>(views.size());
-  fb.pAttachments = views.data();
-  fb.width = w;
-  fb.height = h;
-  fb.layers = 1;
-  VkCheck(vkCreateFramebuffer(t->device, &fb, nullptr, &t->framebuffer), "vkCreateFramebuffer");
-
-  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-  stages[0].module = vert_;
-  stages[0].pName = "main";
-  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-  stages[1].module = ground_truth ? depth_frag_ : frag_;
-  stages[1].pName = "main";
-  VkVertexInputBindingDescription binding{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX};
-  VkVertexInputAttributeDescription attributes[3] = {
-      {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, position)},
-      {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, normal)},
-      {2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv)}};
-  VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-  vertex_input.vertexBindingDescriptionCount = 1;
-  vertex_input.pVertexBindingDescriptions = &binding;
-  vertex_input.vertexAttributeDescriptionCount = 3;
-  vertex_input.pVertexAttributeDescriptions = attributes;
-  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-  VkViewport viewport{0.0f, 0.0f, static_cast<float>(w), static_cast<float>(h), 0.0f, 1.0f};
-  VkRect2D scissor{{0, 0}, {w, h}};
-  VkPipelineViewportStateCreateInfo viewport_state{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  viewport_state.viewportCount = 1;
-  viewport_state.pViewports = &viewport;
-  viewport_state.scissorCount = 1;
-  viewport_state.pScissors = &scissor;
-  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  raster.polygonMode = VK_POLYGON_MODE_FILL;
-  raster.cullMode = VK_CULL_MODE_NONE;  // models are double-sided
-  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-  raster.lineWidth = 1.0f;
-  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-  multisample.rasterizationSamples = sample_bits;
-  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  depth.depthTestEnable = VK_TRUE;
-  depth.depthWriteEnable = VK_TRUE;
-  depth.depthCompareOp = VK_COMPARE_OP_GREATER;  // reversed depth
-  VkPipelineColorBlendAttachmentState blend_attachment{};
-  blend_attachment.colorWriteMask =
-      VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  blend.attachmentCount = 1;
-  blend.pAttachments = &blend_attachment;
-  VkGraphicsPipelineCreateInfo pipeline{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  pipeline.stageCount = 2;
-  pipeline.pStages = stages;
-  pipeline.pVertexInputState = &vertex_input;
-  pipeline.pInputAssemblyState = &assembly;
-  pipeline.pViewportState = &viewport_state;
-  pipeline.pRasterizationState = &raster;
-  pipeline.pMultisampleState = &multisample;
-  pipeline.pDepthStencilState = &depth;
-  pipeline.pColorBlendState = &blend;
-  pipeline.layout = pipeline_layout_;
-  pipeline.renderPass = t->render_pass;
-  VkCheck(vkCreateGraphicsPipelines(t->device, VK_NULL_HANDLE, 1, &pipeline, nullptr, &t->pipeline),
-          "vkCreateGraphicsPipelines");
+  auto t = std::make_unique<Target>(context_, w, h, samples, ground_truth ? kTruthFormat : kColorFormat);
+  PipelineBuilder builder;
+  builder.vertex_shader = vert_;
+  builder.fragment_shader = ground_truth ? depth_frag_ : frag_;
+  builder.layout = pipeline_layout_;
+  builder.samples = static_cast<VkSampleCountFlagBits>(samples);
+  builder.width = w;
+  builder.height = h;
+  t->pipeline = builder.Build(t->device, t->frame.render_pass());
   slot = std::move(t);
   if (!ground_truth) {
     // Sky pixels outside the render area are filled with this value, read
@@ -384,8 +238,8 @@ SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) 
     const PixelRect corner{0, 0, 1, 1};
     context_.SubmitAndWait([&](VkCommandBuffer cmd) { Record(cmd, *slot, Eigen::Matrix4d::Identity(), {}, false, corner); });
     ReadBack(*slot, corner);
-    const uint16_t* half = static_cast<const uint16_t*>(readback_.mapped());
-    for (int c = 0; c < 3; ++c) slot->background[c] = HalfToFloat(half[c]);
+    const auto* half = static_cast<const Eigen::half*>(readback_.mapped());
+    for (int c = 0; c < 3; ++c) slot->background[c] = static_cast<float>(half[c]);
   }
   return *slot;
 }
@@ -400,8 +254,8 @@ void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Mat
   }
   clears[1].depthStencil = {0.0f, 0};  // reversed depth: 0 is infinitely far
   VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-  begin.renderPass = target.render_pass;
-  begin.framebuffer = target.framebuffer;
+  begin.renderPass = target.frame.render_pass();
+  begin.framebuffer = target.frame.framebuffer();
   begin.renderArea = {{area.x0, area.y0}, {static_cast<uint32_t>(area.width()), static_cast<uint32_t>(area.height())}};
   begin.clearValueCount = 2;
   begin.pClearValues = clears;
@@ -413,18 +267,16 @@ void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Mat
     if (model.draws.empty()) continue;
     PushConstants pc{};
     const Eigen::Matrix4f clip_from_object = (clip_from_tanker * item.tanker_from_object.matrix()).cast<float>();
-    std::memcpy(pc.clip_from_object, clip_from_object.data(), sizeof(pc.clip_from_object));
-    const Eigen::Matrix3d r = item.tanker_from_object.linear();
-    for (int row = 0; row < 3; ++row) {
-      for (int c = 0; c < 3; ++c) pc.tanker_from_object_rows[row][c] = static_cast<float>(r(row, c));
-    }
+    pc.clip_from_object = glm::make_mat4(clip_from_object.data());
+    const Eigen::Matrix3f r = item.tanker_from_object.linear().cast<float>();
+    for (int row = 0; row < 3; ++row) pc.tanker_from_object_rows[row] = glm::vec4(r(row, 0), r(row, 1), r(row, 2), 0.0f);
     const VkDeviceSize zero = 0;
     VkBuffer vertex_buffer = model.vertices.buffer();
     vkCmdBindVertexBuffers(cmd, 0, 1, &vertex_buffer, &zero);
     vkCmdBindIndexBuffer(cmd, model.indices.buffer(), 0, VK_INDEX_TYPE_UINT32);
     for (const GpuModel::Draw& draw : model.draws) {
-      std::memcpy(pc.base_color_factor, draw.base_color_factor.data(), sizeof(pc.base_color_factor));
-      if (ground_truth) pc.base_color_factor[3] = item.object_id;
+      pc.base_color_factor = glm::make_vec4(draw.base_color_factor.data());
+      if (ground_truth) pc.base_color_factor.a = item.object_id;
       vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_layout_, 0, 1,
                               &texture_sets_[draw.texture_set], 0, nullptr);
       vkCmdPushConstants(cmd, pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
@@ -442,7 +294,7 @@ void SceneRenderer::ReadBack(const Target& target, const PixelRect& area) {
     copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     copy.imageOffset = {area.x0, area.y0, 0};
     copy.imageExtent = {static_cast<uint32_t>(area.width()), static_cast<uint32_t>(area.height()), 1};
-    vkCmdCopyImageToBuffer(cmd, target.Output().image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer(), 1,
+    vkCmdCopyImageToBuffer(cmd, target.frame.Output().image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer(), 1,
                            &copy);
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
@@ -486,9 +338,9 @@ LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, cons
     if (timings) timings->render_ms += MillisecondsSince(start);
     start = std::chrono::steady_clock::now();
     ReadBack(target, area);
-    const uint16_t* half = static_cast<const uint16_t*>(readback_.mapped());
+    const auto* half = static_cast<const Eigen::half*>(readback_.mapped());
     for (size_t i = 0; i < sum.size() / 3; ++i) {
-      for (int c = 0; c < 3; ++c) sum[i * 3 + c] += weight * HalfToFloat(half[i * 4 + c]);
+      for (int c = 0; c < 3; ++c) sum[i * 3 + c] += weight * static_cast<float>(half[i * 4 + c]);
     }
     if (timings) timings->readback_ms += MillisecondsSince(start);
   }

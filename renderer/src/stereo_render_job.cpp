@@ -166,8 +166,10 @@ nlohmann::json CommonHeader(const Session& session, const std::filesystem::path&
 
 }  // namespace
 
+void RenderJobOptions::Check() const { CheckMsaaLevel(msaa); }
+
 RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
-  if (!IsSupportedMsaaLevel(options.msaa)) PlanMsaa(options.msaa, {1});  // throws the usual message
+  options.Check();
   const StereoRig rig = LoadRig(options.rig);
   const std::vector<FlightSample> path = ReadFlightPath(options.flight_path);
   const SceneModel receiver = LoadSceneModel(options.receiver_model);
@@ -211,7 +213,7 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
 }
 
 RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
-  if (!IsSupportedMsaaLevel(options.msaa)) PlanMsaa(options.msaa, {1});
+  options.Check();
   const StereoRig rig = LoadRig(options.rig);
   const SceneModel board = LoadSceneModel(options.board_model);
   const std::vector<Pose> poses = CalibrationBoardPoses(rig);

@@ -1,5 +1,5 @@
 // Bad input to aar-render: one clear message naming the file (and line), a
-// non-zero exit, and nothing written.
+// non-zero exit, and nothing written; and its command line (help, usage errors).
 
 #include <gtest/gtest.h>
 
@@ -23,6 +23,15 @@ struct BadInputCase {
 
 class RenderBadInput : public ::testing::TestWithParam<BadInputCase> {};
 
+// A triangle whose POSITION accessor (3 x VEC3 float, 36 bytes) needs more
+// than its 12-byte buffer view holds.
+const char* const kBadAccessorGltf =
+    R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],)"
+    R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+    R"("buffers":[{"byteLength":12,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAA"}],)"
+    R"("bufferViews":[{"buffer":0,"byteLength":12}],)"
+    R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[0,0,0]}]})";
+
 TEST_P(RenderBadInput, FailsWithOneClearMessageAndWritesNothing) {
   const BadInputCase& c = GetParam();
   TempDir dir("bad-" + c.name);
@@ -32,6 +41,7 @@ TEST_P(RenderBadInput, FailsWithOneClearMessageAndWritesNothing) {
     WriteFileAtomic(csv_path, c.csv);
   }
   WriteFileAtomic(dir / "corrupt.glb", "glTF this is not a binary glTF file");
+  WriteFileAtomic(dir / "bad-accessor.gltf", kBadAccessorGltf);
   WriteFileAtomic(dir / "a-file", "x");
   std::string flags = c.extra_flags;
   for (const auto& [key, value] : {std::pair<std::string, std::string>{"@DIR@", dir.path().string()}}) {
@@ -57,6 +67,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         BadInputCase{"missing-gltf", "", "--receiver @DIR@/missing.glb", "", "missing.glb: model file not found"},
         BadInputCase{"corrupt-gltf", "", "--receiver @DIR@/corrupt.glb", "", "corrupt.glb: not a valid glTF"},
+        BadInputCase{"bad-accessor", "", "--receiver @DIR@/bad-accessor.gltf", "",
+                     "bad-accessor.gltf: accessor 0 reads past the end of its buffer"},
         BadInputCase{"wrong-header", "t,x,y,z,r,p,yaw\n0,1,2,3,0,0,0\n", "", "", "path.csv:1: wrong header"},
         BadInputCase{"nan", kHeader + "0,-47,0,-19,0,0,0\n0.5,nan,0,-19,0,0,0\n", "", "",
                      "path.csv:3: field x_m: 'nan' is not a finite number"},
@@ -85,6 +97,41 @@ TEST(RenderBadOutput, UnwritableOutputFolderFailsCleanly) {
   EXPECT_NE(result.exit_code, 0);
   EXPECT_NE(result.output.find("a-file/out: cannot create output folder"), std::string::npos) << result.output;
   EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+}
+
+// The command table: the top-level help lists every subcommand with its
+// one-line description, a subcommand's help lists its flags, and a missing or
+// unknown subcommand is a usage error.
+TEST(RenderCommandLine, HelpListsSubcommandsAndTheirFlags) {
+  const std::string render = test::BinaryPath("renderer/aar-render").string();
+  const test::CommandResult top = RunCommand(render + " --help");
+  EXPECT_EQ(top.exit_code, 0) << top.output;
+  for (const char* line : {"render                      render a flight path",
+                           "calib                       render the calibration board",
+                           "finalize                    recompute manifest.json",
+                           "devices                     list the Vulkan devices",
+                           "bench                       time stereo pairs per second"}) {
+    EXPECT_NE(top.output.find(line), std::string::npos) << line << "\n" << top.output;
+  }
+  const test::CommandResult sub = RunCommand(render + " render --help");
+  EXPECT_EQ(sub.exit_code, 0) << sub.output;
+  EXPECT_NE(sub.output.find("Usage: " + render + " render [OPTIONS] output"), std::string::npos) << sub.output;
+  for (const char* flag : {"--rig", "--flight-path", "--receiver", "--tanker", "--depth", "--msaa", "--anisotropy",
+                           "--frames", "--shard", "--device", "--no-progress"}) {
+    EXPECT_NE(sub.output.find(flag), std::string::npos) << flag << "\n" << sub.output;
+  }
+  const test::CommandResult bench = RunCommand(render + " bench --help");
+  EXPECT_NE(bench.output.find("--levels"), std::string::npos) << bench.output;
+  EXPECT_EQ(bench.output.find("--board"), std::string::npos) << bench.output;
+}
+
+TEST(RenderCommandLine, MissingOrUnknownSubcommandIsAUsageError) {
+  const std::string render = test::BinaryPath("renderer/aar-render").string();
+  for (const std::string args : {"", " bogus"}) {
+    const test::CommandResult result = RunCommand(render + args);
+    EXPECT_NE(result.exit_code, 0) << args;
+    EXPECT_NE(result.output.find("A subcommand is required"), std::string::npos) << result.output;
+  }
 }
 
 }  // namespace

@@ -26,4 +26,8 @@ std::vector<FlightSample> ReadFlightPath(const std::filesystem::path& path);
 /// Formats samples as CSV text with the canonical header (fixed precision).
 std::string FormatFlightPath(const std::vector<FlightSample>& samples);
 
+/// `sample` rounded to FormatFlightPath's precision (time 1 ms, metres and
+/// degrees 1e-4), so that formatting and reading it back returns it exactly.
+FlightSample RoundToCsvPrecision(FlightSample sample);
+
 }  // namespace aar

@@ -33,6 +33,9 @@ struct MsaaPlan {
 /// Levels the command line accepts.
 bool IsSupportedMsaaLevel(int level);
 
+/// Throws aar::Error naming --msaa when `level` is not a supported level.
+void CheckMsaaLevel(int level);
+
 /// Vulkan standard sample locations for n = 1, 2, 4, 8, 16, in pixel units
 /// from the top-left corner of the pixel (Vulkan spec, "Standard Sample Locations").
 std::vector<Vec2> StandardSampleLocations(int samples);

@@ -25,6 +25,10 @@ struct RenderJobOptions {
   FrameSelection selection;                                         ///< frames (or calib pairs) to render
   std::string device;                                               ///< Vulkan device name filter ("" = lavapipe first)
   bool progress = true;                                             ///< progress line on stderr
+
+  /// Throws aar::Error naming the option (its command-line flag) when a value
+  /// is out of range; the jobs call it before reading any input.
+  void Check() const;
 };
 
 /// Accumulated wall time per stage over the pairs rendered [ms].

@@ -1,0 +1,29 @@
+#pragma once
+// Graphics pipeline set-up for the scene shaders, vkguide-style: the fixed
+// state the renderer always uses (triangle lists of aar::Vertex, no culling
+// since models are double-sided, reversed depth test, no blending) with the
+// parts that vary per render target as fields, and one Build() call.
+
+#include <cstddef>
+#include <cstdint>
+
+#include <vulkan/vulkan.h>
+
+namespace aar {
+
+/// A shader module from SPIR-V words; throws aar::Error naming the call on failure.
+VkShaderModule CreateShaderModule(VkDevice device, const uint32_t* code, size_t bytes);
+
+struct PipelineBuilder {
+  VkShaderModule vertex_shader = VK_NULL_HANDLE;
+  VkShaderModule fragment_shader = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;  ///< rasterization samples (the target's)
+  uint32_t width = 1;   ///< viewport and scissor width [px]
+  uint32_t height = 1;  ///< viewport and scissor height [px]
+
+  /// Creates the pipeline for subpass 0 of `render_pass`; the caller owns it.
+  VkPipeline Build(VkDevice device, VkRenderPass render_pass) const;
+};
+
+}  // namespace aar
