@@ -198,6 +198,13 @@ def calibrate(ctx, dataset, out):
     return out
 
 
+# The pipeline docs/results.md was measured with: the thesis preset with the
+# first version's loose shell, sensed-to-model pairing and 1/32 px disparity
+# offset (`aar-analyze run --help`; docs/analysis.md, "Presets").
+PUBLISHED_PIPELINE = ("--preset", "thesis", "--shell", "loose", "--disparity-offset", "0.03125")
+PUBLISHED_PAIRING = ("--correspondence", "sensed_to_model")
+
+
 def analyze(ctx, run_name, dataset, model, selection, calibration=None, reuse=True, label="", extra=()):
     """aar-analyze run; the same inputs within one invocation reuse the earlier run."""
     key = ("run", str(dataset), model, repr(selection), str(calibration), tuple(extra))
@@ -207,7 +214,9 @@ def analyze(ctx, run_name, dataset, model, selection, calibration=None, reuse=Tr
     out = ctx.out / "runs" / run_name
     if out.exists():
         shutil.rmtree(out)
-    argv = [ctx.analyze, "run", dataset, "--model", model, "--icp-iterations", "30"]
+    argv = [ctx.analyze, "run", dataset, "--model", model, "--icp-iterations", "30", *PUBLISHED_PIPELINE]
+    if "--correspondence" not in extra:
+        argv += list(PUBLISHED_PAIRING)
     if calibration is not None:
         argv += ["--calibration", calibration]
     argv += list(extra) + selection_args(selection) + ["--out", out]

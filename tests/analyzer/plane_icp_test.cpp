@@ -1,0 +1,75 @@
+// Robust noise-weighted point-to-plane ICP on synthetic clouds.
+
+#include <random>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "test_meshes.h"
+#include "aar/analyzer/plane_icp.h"
+#include "aar/analyzer/reference_model.h"
+#include "aar/error.h"
+
+namespace aar {
+namespace {
+
+// An L-shaped receiver of three boxes (no symmetry that leaves a pose free).
+TriangleMesh Receiver() {
+  TriangleMesh mesh;
+  test::AddBox(mesh, Eigen::Vector3d::Zero(), {6.0, 0.8, 0.8});
+  test::AddBox(mesh, {0.5, 0.0, 0.0}, {1.0, 7.0, 0.15});
+  test::AddBox(mesh, {-5.5, 0.0, 1.5}, {0.4, 0.15, 1.5});
+  return mesh;
+}
+
+Eigen::Isometry3d TruePose() {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = (Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(-0.01, Eigen::Vector3d::UnitY()))
+                   .toRotationMatrix();
+  t.translation() = Eigen::Vector3d(-47.7, 0.3, -18.9);
+  return t;
+}
+
+StereoNoiseGeometry Geometry() {
+  StereoNoiseGeometry g;
+  g.camera_centre_in_tanker = Eigen::Vector3d(-20.0, 0.0, -2.9);
+  g.optical_axis_in_tanker = (Eigen::Vector3d(-47.7, 0.0, -18.9) - g.camera_centre_in_tanker).normalized();
+  return g;
+}
+
+class PlaneIcpConverges : public ::testing::TestWithParam<PlanePairing> {};
+
+TEST_P(PlaneIcpConverges, FromHalfAMetreAndFiveDegreesWithinTwentyIterations) {
+  const ReferenceModel model = SampleSurfaceWithNormals(Receiver(), 8000, 7);
+  // The sensed cloud: other samples of the same surface at the true pose.
+  const ReferenceModel other = SampleSurfaceWithNormals(Receiver(), 3000, 8);
+  std::vector<Eigen::Vector3d> sensed;
+  for (const Eigen::Vector3d& p : other.points_in_receiver) sensed.push_back(TruePose() * p);
+  Eigen::Isometry3d initial = TruePose();
+  initial.translation() += Eigen::Vector3d(0.3, -0.3, 0.3);
+  initial.linear() = Eigen::AngleAxisd(5.0 * M_PI / 180.0, Eigen::Vector3d(1, 1, 1).normalized()) * initial.linear();
+  PlaneIcpOptions options;
+  options.pairing = GetParam();
+  const PlaneIcpRegistration icp(model.points_in_receiver, model.normals_in_receiver, Geometry(), options);
+  const PlaneIcpResult result = icp.Register(sensed, initial);
+  EXPECT_TRUE(result.converged);
+  EXPECT_LE(result.iterations, 20);
+  const Eigen::Isometry3d error = TruePose().inverse() * result.tanker_from_receiver;
+  EXPECT_LT(error.translation().norm(), 0.01);
+  EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI, 0.05);
+}
+
+INSTANTIATE_TEST_SUITE_P(Pairings, PlaneIcpConverges,
+                         ::testing::Values(PlanePairing::kSensedToModel, PlanePairing::kSymmetric));
+
+TEST(PlaneIcp, RejectsModelsWithoutNormalsAndEmptyClouds) {
+  const ReferenceModel model = SampleSurfaceWithNormals(Receiver(), 100, 1);
+  EXPECT_THROW(PlaneIcpRegistration(model.points_in_receiver, {}, Geometry()), Error);
+  const PlaneIcpRegistration icp(model.points_in_receiver, model.normals_in_receiver, Geometry());
+  EXPECT_THROW(icp.Register({}, Eigen::Isometry3d::Identity()), Error);
+  EXPECT_EQ(ParsePlanePairing(ToString(PlanePairing::kSymmetric)), PlanePairing::kSymmetric);
+  EXPECT_THROW(ParsePlanePairing("both"), Error);
+}
+
+}  // namespace
+}  // namespace aar
