@@ -22,6 +22,8 @@ def read_frames(run_dir):
             row = {"frame": int(r["frame"]), "region": r["region"], "status": r["status"],
                    "range_m": float(r["range_m"])}
             for k, v in r.items():
+                if k == "truth_error_by_fraction":  # count/sum pairs (docs/analysis.md)
+                    continue
                 if k.startswith(("err_", "est_", "truth_", "ms_")) or k in ("sensed_points", "icp_rmse_m"):
                     row[k] = float(v) if v not in ("", None) else None
             rows.append(row)

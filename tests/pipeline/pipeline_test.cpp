@@ -105,7 +105,8 @@ TEST(Pipeline, EndToEndPoseNearContact) {
   EXPECT_EQ(all.at("frames").get<size_t>(), test::kNearContactFrames);
   EXPECT_EQ(all.at("ok").get<size_t>(), test::kNearContactFrames);
   EXPECT_EQ(all.at("failed").get<size_t>(), 0u);
-  EXPECT_EQ(summary.at("run").at("options").at("icp").at("correspondence"), "sensed_to_model");
+  EXPECT_EQ(summary.at("run").at("options").at("preset"), "default");
+  EXPECT_EQ(summary.at("run").at("options").at("icp").at("algorithm"), "point_to_plane");
   const nlohmann::json run = ReadJsonFile(out / kRunJsonName);
   EXPECT_EQ(run.at("model"), "shelled");
   EXPECT_EQ(run.at("calibration").at("used_pairs").get<int>(), 12);
