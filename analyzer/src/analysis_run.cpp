@@ -204,11 +204,12 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
   result.reference_points = reference.points_in_receiver.size();
   const std::vector<size_t> selected = options.selection.Select(manifest.frame_count);
   Progress progress("analyze " + reference.name, selected.size());
-  std::optional<Pose> previous;
+  TrackHistory history;
   for (size_t index : selected) {
-    FrameResult frame = analyzer.Analyze(options.dataset, index, manifest.files, previous);
+    FrameResult frame = analyzer.Analyze(options.dataset, index, manifest.files, history);
     if (frame.ok()) {
-      previous = frame.estimate;
+      history.before_last = history.last;
+      history.last = std::make_pair(frame.time_s, frame.estimate);
     } else {
       if (frame.range_m == 0.0 && index < flight_path.size()) {
         frame.time_s = flight_path[index].time_s;
@@ -216,7 +217,7 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
         frame.range_m = (frame.truth.translation_m - rig.left.tanker_from_camera.translation()).norm();
         frame.region = RegionForRange(frame.range_m);
       }
-      previous.reset();
+      history = TrackHistory{};
       if (options.progress) std::fprintf(stderr, "frame %zu not measured: %s\n", index, frame.status.c_str());
     }
     result.frames.push_back(std::move(frame));

@@ -70,13 +70,21 @@ Rectifier::Rectifier(const StereoCalibration& c) : image_size_(c.image_size) {
 
 void Rectifier::Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& rect_left_gray,
                         cv::Mat& rect_right_gray) const {
+  Rectify(left, right, rect_left_gray, rect_right_gray, cv::Rect());
+}
+
+void Rectifier::Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& rect_left_gray, cv::Mat& rect_right_gray,
+                        const cv::Rect& region) const {
   if (left.size() != image_size_ || right.size() != image_size_) {
     throw Error("rectifier: images are " + std::to_string(left.cols) + "x" + std::to_string(left.rows) + " and " +
                 std::to_string(right.cols) + "x" + std::to_string(right.rows) + ", calibration is for " +
                 std::to_string(image_size_.width) + "x" + std::to_string(image_size_.height));
   }
-  cv::remap(ToGrayscale(left), rect_left_gray, left_map1_, left_map2_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
-  cv::remap(ToGrayscale(right), rect_right_gray, right_map1_, right_map2_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  const cv::Rect all(0, 0, image_size_.width, image_size_.height);
+  const cv::Rect r = region.area() > 0 ? region & all : all;
+  cv::remap(ToGrayscale(left), rect_left_gray, left_map1_(r), left_map2_(r), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  cv::remap(ToGrayscale(right), rect_right_gray, right_map1_(r), right_map2_(r), cv::INTER_LINEAR,
+            cv::BORDER_CONSTANT);
 }
 
 DisparityMap ComputeDisparity(const cv::Mat& rect_left_gray, const cv::Mat& rect_right_gray,

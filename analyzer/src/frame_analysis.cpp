@@ -138,9 +138,119 @@ double FrameAnalyzer::ModelMaxDisparityPx(const Eigen::Isometry3d& tanker_from_r
   return min_z > 0.0 ? focal_times_baseline_px_m_ / min_z : std::numeric_limits<double>::infinity();
 }
 
+FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi,
+                                                 const std::optional<Pose>& seed,
+                                                 const std::optional<DepthTruth>& truth, const std::string& left_path,
+                                                 FrameResult& r) const {
+  // The region computed: the receiver's predicted box and, to its left, the
+  // columns its matches can come from (the disparity search and a block).
+  DisparityOptions disparity_options = options_.disparity;
+  const cv::Rect image(0, 0, rectifier_.image_size().width, rectifier_.image_size().height);
+  const auto compute_region = [&](const DisparityOptions& d) {
+    if (roi.area() == 0) return image;
+    const int reach = d.min_disparity + d.num_disparities + d.block_size;
+    return cv::Rect(cv::Point(roi.x - reach, roi.y - d.block_size), cv::Point(roi.br().x, roi.br().y + d.block_size)) &
+           image;
+  };
+  Eigen::Isometry3d left_from_rect_left = Eigen::Isometry3d::Identity();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) left_from_rect_left.linear()(i, j) = calibration_.R1.at<double>(j, i);
+  }
+  const Eigen::Isometry3d tanker_from_rect_left = tanker_from_left_ * left_from_rect_left;
+  SensedCloud cloud;
+  Registered icp{};
+  r.times.rectify_ms = r.times.disparity_ms = r.times.reproject_ms = r.times.icp_ms = 0.0;
+  for (int attempt = 0;; ++attempt) {
+    const cv::Rect region = compute_region(disparity_options);
+    auto start = std::chrono::steady_clock::now();
+    cv::Mat rect_left, rect_right;
+    rectifier_.Rectify(left, right, rect_left, rect_right, region);
+    r.times.rectify_ms += MillisecondsSince(start);
+    const std::unique_ptr<SubpixelRefiner> refiner =
+        options_.refine_subpixel
+            ? std::make_unique<SubpixelRefiner>(rect_left, rect_right, options_.subpixel, region.tl())
+            : nullptr;
+
+    start = std::chrono::steady_clock::now();
+    DisparityMap disparity = ComputeDisparity(rect_left, rect_right, disparity_options);
+    if (options_.remove_halo) RemoveHalo(disparity.disparity16, disparity.invalid_value16, options_.halo);
+    r.times.disparity_ms += MillisecondsSince(start);
+
+    start = std::chrono::steady_clock::now();
+    ReprojectionOptions reprojection = options_.reprojection;
+    if (options_.remove_rounding_bias) reprojection.disparity_offset_px += MatcherRoundingBiasPx(disparity_options.algorithm);
+    cloud = Reproject(disparity.disparity16, disparity.invalid_value16, calibration_, tanker_from_left_, reprojection,
+                      refiner.get(), region.tl());
+    r.sensed_points = cloud.points_in_tanker.size();
+    r.times.reproject_ms += MillisecondsSince(start);
+    if (cloud.points_in_tanker.size() < options_.min_sensed_points) {
+      throw Error(left_path + ": only " + std::to_string(cloud.points_in_tanker.size()) +
+                  " sensed points (receiver out of view?)");
+    }
+    if (truth) {
+      std::vector<Eigen::Vector3d> ideal;
+      r.stereo_truth = CompareWithTruth(cloud.pixels, *truth, calibration_, {},
+                                        options_.register_truth_cloud ? &ideal : nullptr);
+      if (options_.register_truth_cloud) {
+        cloud.points_in_tanker.clear();
+        for (const Eigen::Vector3d& p : ideal) cloud.points_in_tanker.push_back(tanker_from_rect_left * p);
+      }
+    }
+
+    start = std::chrono::steady_clock::now();
+    icp = Register(cloud.points_in_tanker, seed);
+    r.times.icp_ms += MillisecondsSince(start);
+    // Near frames: part of the receiver beyond the search gives no (or
+    // wrong) disparities; search again up to what the estimate needs.
+    const double needed_px = ModelMaxDisparityPx(icp.tanker_from_receiver);
+    const int searched_max = disparity_options.min_disparity + disparity_options.num_disparities - 1;
+    if (!(needed_px > searched_max)) break;
+    if (!options_.widen_disparity_search) break;  // the thesis: what the search covers
+    if (attempt > 0 || !std::isfinite(needed_px) || needed_px > 250.0) {
+      r.estimate = PoseFromIsometry(icp.tanker_from_receiver);
+      r.error = PoseError(r.estimate, r.truth);
+      r.has_estimate = true;
+      throw Error(left_path + ": out of stereo range (the receiver needs " + FormatFixed(needed_px, 0) +
+                  " px of disparity, the search covers " + std::to_string(searched_max) + ")");
+    }
+    const double wanted_px = needed_px * 1.1 + 2.0;  // 10 % and 2 px of margin for the first estimate's error
+    disparity_options.num_disparities =
+        static_cast<int>(std::ceil((wanted_px - disparity_options.min_disparity + 1) / 16.0)) * 16;
+  }
+  return icp;
+}
+
+cv::Rect FrameAnalyzer::PredictedRegion(const Eigen::Isometry3d& tanker_from_receiver, double margin_fraction,
+                                        int margin_px) const {
+  // Model points in the rectified left image: (f x / z + cx, f y / z + cy) after R1.
+  cv::Mat r1;
+  calibration_.R1.convertTo(r1, CV_64F);
+  Eigen::Matrix3d rect_from_left;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) rect_from_left(i, j) = r1.at<double>(i, j);
+  }
+  const double f = calibration_.P1.at<double>(0, 0), cx = calibration_.P1.at<double>(0, 2);
+  const double fy = calibration_.P1.at<double>(1, 1), cy = calibration_.P1.at<double>(1, 2);
+  const Eigen::Isometry3d left_from_receiver = tanker_from_left_.inverse() * tanker_from_receiver;
+  double u0 = std::numeric_limits<double>::infinity(), v0 = u0, u1 = -u0, v1 = -u0;
+  for (const Eigen::Vector3d& m : model_points_) {
+    const Eigen::Vector3d p = rect_from_left * (left_from_receiver * m);
+    if (!(p.z() > 0.0)) return cv::Rect();  // behind the camera: no region
+    u0 = std::min(u0, f * p.x() / p.z() + cx);
+    u1 = std::max(u1, f * p.x() / p.z() + cx);
+    v0 = std::min(v0, fy * p.y() / p.z() + cy);
+    v1 = std::max(v1, fy * p.y() / p.z() + cy);
+  }
+  const double mu = margin_fraction * (u1 - u0) + margin_px, mv = margin_fraction * (v1 - v0) + margin_px;
+  const cv::Rect image(0, 0, rectifier_.image_size().width, rectifier_.image_size().height);
+  const cv::Rect box(cv::Point(static_cast<int>(std::floor(u0 - mu)), static_cast<int>(std::floor(v0 - mv))),
+                     cv::Point(static_cast<int>(std::ceil(u1 + mu)) + 1, static_cast<int>(std::ceil(v1 + mv)) + 1));
+  return box & image;
+}
+
 FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t index,
                                    const std::map<std::string, std::string>& expected_hashes,
-                                   const std::optional<Pose>& previous) const {
+                                   const TrackHistory& history) const {
   const auto frame_start = std::chrono::steady_clock::now();
   FrameResult r;
   r.frame = index;
@@ -164,74 +274,56 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
     }
     r.times.load_ms = MillisecondsSince(start);
 
-    start = std::chrono::steady_clock::now();
-    cv::Mat rect_left, rect_right;
-    rectifier_.Rectify(left, right, rect_left, rect_right);
-    r.times.rectify_ms = MillisecondsSince(start);
-
     const std::string left_path = (dataset / sidecar.files.at("left").path).string();
-    Eigen::Isometry3d left_from_rect_left = Eigen::Isometry3d::Identity();
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) left_from_rect_left.linear()(i, j) = calibration_.R1.at<double>(j, i);
+    std::optional<DepthTruth> truth;
+    if (options_.compare_with_truth && sidecar.files.count("left_depth") && sidecar.files.count("left_mask")) {
+      truth = ReadDepthTruth(dataset / sidecar.files.at("left_depth").path, dataset / sidecar.files.at("left_mask").path);
+    } else if (options_.register_truth_cloud) {
+      throw Error(left_path + ": no depth truth for the ideal cloud (render with --depth)");
     }
-    const Eigen::Isometry3d tanker_from_rect_left = tanker_from_left_ * left_from_rect_left;
-    const std::unique_ptr<SubpixelRefiner> refiner =
-        options_.refine_subpixel ? std::make_unique<SubpixelRefiner>(rect_left, rect_right, options_.subpixel)
-                                 : nullptr;
-    DisparityOptions disparity_options = options_.disparity;
-    SensedCloud cloud;
+    // The prediction: constant velocity from the last two estimates.
+    std::optional<Pose> predicted;
+    if (history.last) {
+      predicted = history.last->second;
+      if (history.before_last && history.last->first > history.before_last->first) {
+        const double k = (r.time_s - history.last->first) / (history.last->first - history.before_last->first);
+        const Pose& a = history.before_last->second;
+        const Pose& b = history.last->second;
+        predicted->translation_m = b.translation_m + k * (b.translation_m - a.translation_m);
+        predicted->roll_deg = b.roll_deg + k * WrapDegrees(b.roll_deg - a.roll_deg);
+        predicted->pitch_deg = b.pitch_deg + k * WrapDegrees(b.pitch_deg - a.pitch_deg);
+        predicted->yaw_deg = b.yaw_deg + k * WrapDegrees(b.yaw_deg - a.yaw_deg);
+      }
+    }
+    const bool tracking = options_.seed == IcpSeed::kPreviousFrame && predicted.has_value();
     Registered icp{};
-    for (int attempt = 0;; ++attempt) {
-      start = std::chrono::steady_clock::now();
-      DisparityMap disparity = ComputeDisparity(rect_left, rect_right, disparity_options);
-      if (options_.remove_halo) RemoveHalo(disparity.disparity16, disparity.invalid_value16, options_.halo);
-      r.times.disparity_ms += MillisecondsSince(start);
-
-      start = std::chrono::steady_clock::now();
-      ReprojectionOptions reprojection = options_.reprojection;
-      if (options_.remove_rounding_bias) reprojection.disparity_offset_px += MatcherRoundingBiasPx(disparity_options.algorithm);
-      cloud = Reproject(disparity.disparity16, disparity.invalid_value16, calibration_, tanker_from_left_, reprojection,
-                        refiner.get());
-      r.sensed_points = cloud.points_in_tanker.size();
-      r.times.reproject_ms += MillisecondsSince(start);
-      if (cloud.points_in_tanker.size() < options_.min_sensed_points) {
-        throw Error(left_path + ": only " + std::to_string(cloud.points_in_tanker.size()) +
-                    " sensed points (receiver out of view?)");
-      }
-
-      if (sidecar.files.count("left_depth") && sidecar.files.count("left_mask")) {
-        const DepthTruth truth = ReadDepthTruth(dataset / sidecar.files.at("left_depth").path,
-                                                dataset / sidecar.files.at("left_mask").path);
-        std::vector<Eigen::Vector3d> ideal;
-        r.stereo_truth = CompareWithTruth(cloud.pixels, truth, calibration_, {},
-                                          options_.register_truth_cloud ? &ideal : nullptr);
-        if (options_.register_truth_cloud) {
-          cloud.points_in_tanker.clear();
-          for (const Eigen::Vector3d& p : ideal) cloud.points_in_tanker.push_back(tanker_from_rect_left * p);
+    bool measured = false;
+    StageTimes lost_times;  // spent on a region the receiver was not (all) in
+    if (tracking && options_.track_region) {
+      const cv::Rect roi = PredictedRegion(IsometryFromPose(*predicted));
+      if (roi.area() > 0) {
+        FrameResult attempt = r;
+        try {
+          icp = Measure(left, right, roi, predicted, truth, left_path, attempt);
+          // Lost when the receiver reaches the region's border: measure the whole image.
+          const cv::Rect estimated = PredictedRegion(icp.tanker_from_receiver, 0.0, 0);
+          measured = estimated.area() > 0 && (estimated & roi) == estimated;
+        } catch (const Error&) {
+          measured = false;
         }
-      } else if (options_.register_truth_cloud) {
-        throw Error(left_path + ": no depth truth for the ideal cloud (render with --depth)");
+        if (measured) {
+          r = attempt;
+        } else {
+          lost_times = attempt.times;
+        }
       }
-
-      start = std::chrono::steady_clock::now();
-      icp = Register(cloud.points_in_tanker, previous);
-      r.times.icp_ms += MillisecondsSince(start);
-      // Near frames: part of the receiver beyond the search gives no (or
-      // wrong) disparities; search again up to what the estimate needs.
-      const double needed_px = ModelMaxDisparityPx(icp.tanker_from_receiver);
-      const int searched_max = disparity_options.min_disparity + disparity_options.num_disparities - 1;
-      if (!(needed_px > searched_max)) break;
-      if (!options_.widen_disparity_search) break;  // the thesis: what the search covers
-      if (attempt > 0 || !std::isfinite(needed_px) || needed_px > 250.0) {
-        r.estimate = PoseFromIsometry(icp.tanker_from_receiver);
-        r.error = PoseError(r.estimate, r.truth);
-        r.has_estimate = true;
-        throw Error(left_path + ": out of stereo range (the receiver needs " + FormatFixed(needed_px, 0) +
-                    " px of disparity, the search covers " + std::to_string(searched_max) + ")");
-      }
-      const double wanted_px = needed_px * 1.1 + 2.0;  // 10 % and 2 px of margin for the first estimate's error
-      disparity_options.num_disparities =
-          static_cast<int>(std::ceil((wanted_px - disparity_options.min_disparity + 1) / 16.0)) * 16;
+    }
+    if (!measured) {
+      icp = Measure(left, right, cv::Rect(), tracking ? predicted : std::nullopt, truth, left_path, r);
+      r.times.rectify_ms += lost_times.rectify_ms;
+      r.times.disparity_ms += lost_times.disparity_ms;
+      r.times.reproject_ms += lost_times.reproject_ms;
+      r.times.icp_ms += lost_times.icp_ms;
     }
     r.icp_iterations = icp.iterations;
     r.icp_converged = icp.converged;

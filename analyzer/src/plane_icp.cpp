@@ -1,5 +1,6 @@
 #include "aar/analyzer/plane_icp.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -15,6 +16,7 @@ struct SensedNoise {
   Eigen::Vector3d ray;     // unit viewing ray in the tanker frame
   double ray_variance;     // sigma_ray^2 [m^2]
   double lateral_variance; // sigma_lat^2 [m^2]
+  double gate_squared;     // pairs farther than sqrt(this) are ignored [m^2]
 };
 
 std::vector<SensedNoise> NoiseOf(const std::vector<Eigen::Vector3d>& sensed, const StereoNoiseGeometry& g,
@@ -26,7 +28,8 @@ std::vector<SensedNoise> NoiseOf(const std::vector<Eigen::Vector3d>& sensed, con
     const double depth = std::max(offset.dot(g.optical_axis_in_tanker), 1e-3);
     const double sigma_ray = depth * distance * o.disparity_noise_px / g.focal_times_baseline_px_m;
     const double sigma_lat = depth * o.lateral_noise_px / g.focal_px;
-    noise[i] = {offset / distance, sigma_ray * sigma_ray, sigma_lat * sigma_lat};
+    const double gate = std::max(o.max_correspondence_distance_m, o.gate_sigmas * sigma_ray);
+    noise[i] = {offset / distance, sigma_ray * sigma_ray, sigma_lat * sigma_lat, gate * gate};
   }
   return noise;
 }
@@ -40,13 +43,13 @@ struct NormalEquations {
   // sensed point s; Jacobian [ (s - centre) x n, n ] for the perturbation
   // p -> centre + (I + [w]x)(p - centre) + v (normal rotated with it).
   void Add(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eigen::Vector3d& s, const SensedNoise& noise,
-           const Eigen::Vector3d& centre, const PlaneIcpOptions& o, double& sum_squared) {
+           const Eigen::Vector3d& centre, const PlaneIcpOptions& o, double weight, double& sum_squared) {
     const double r = n.dot(p - s);
     const double along = n.dot(noise.ray);
     const double variance = o.surface_noise_m * o.surface_noise_m + along * along * noise.ray_variance +
                             (1.0 - along * along) * noise.lateral_variance;
     const double scaled = r * r / (o.robust_scale * o.robust_scale * variance);
-    const double w = 1.0 / (variance * (1.0 + scaled));  // Cauchy
+    const double w = weight / (variance * (1.0 + scaled));  // Cauchy
     Eigen::Matrix<double, 6, 1> j;
     j.head<3>() = (s - centre).cross(n);
     j.tail<3>() = n;
@@ -84,6 +87,8 @@ void PlaneIcpOptions::Check() const {
     throw Error("point-to-plane ICP: max_correspondence_distance_m must be > 0");
   }
   if (!(robust_scale > 0.0)) throw Error("point-to-plane ICP: robust_scale must be > 0");
+  if (max_model_queries > 100000000) throw Error("point-to-plane ICP: max_model_queries is too large");
+  if (!(gate_sigmas >= 0.0)) throw Error("point-to-plane ICP: gate_sigmas must be >= 0");
   if (!(disparity_noise_px >= 0.0) || !(lateral_noise_px >= 0.0) || !(surface_noise_m > 0.0)) {
     throw Error("point-to-plane ICP: noise model needs disparity/lateral noise >= 0 and surface noise > 0");
   }
@@ -121,12 +126,15 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
   for (const Eigen::Vector3d& s : sensed) centre += s;
   centre /= static_cast<double>(sensed.size());
 
-  CachedNearest to_model(*model_tree_, sensed.size(), true, o.max_correspondence_distance_m);
+  double max_gate_squared = 0.0;
+  for (const SensedNoise& n : noise) max_gate_squared = std::max(max_gate_squared, n.gate_squared);
+  const double search_radius = std::sqrt(max_gate_squared);
+  CachedNearest to_model(*model_tree_, sensed.size(), true, search_radius);
   std::unique_ptr<KdTree3d> sensed_tree;
   std::unique_ptr<CachedNearest> to_sensed;
   if (symmetric) {
     sensed_tree = std::make_unique<KdTree3d>(sensed, o.kdtree_leaf_size);
-    to_sensed = std::make_unique<CachedNearest>(*sensed_tree, model_.size(), true, o.max_correspondence_distance_m);
+    to_sensed = std::make_unique<CachedNearest>(*sensed_tree, model_.size(), true, search_radius);
   }
 
   PlaneIcpResult result;
@@ -140,18 +148,25 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
     size_t inliers = 0;
     for (size_t i = 0; i < sensed.size(); ++i) {
       const auto [j, squared] = to_model.Find(i, receiver_from_tanker * sensed[i]);
-      if (j == CachedNearest::kNone) continue;
-      equations.Add(tanker_from_receiver * model_[j], rotation * normals_[j], sensed[i], noise[i], centre, o,
+      if (j == CachedNearest::kNone || squared > noise[i].gate_squared) continue;
+      equations.Add(tanker_from_receiver * model_[j], rotation * normals_[j], sensed[i], noise[i], centre, o, 1.0,
                     sum_squared);
       ++inliers;
     }
     if (symmetric) {
       double unused = 0.0;
-      for (size_t j = 0; j < model_.size(); ++j) {
+      // Each direction weighs as much in total as the other, whatever the
+      // model's and the cloud's sizes.
+      const double balance =
+          o.balance_directions ? static_cast<double>(sensed.size()) / static_cast<double>(model_.size()) : 1.0;
+      // Every stride-th model point, each standing for stride of them.
+      const size_t stride = o.max_model_queries > 0 ? (model_.size() + o.max_model_queries - 1) / o.max_model_queries : 1;
+      for (size_t j = 0; j < model_.size(); j += stride) {
         const Eigen::Vector3d p = tanker_from_receiver * model_[j];
         const auto [i, squared] = to_sensed->Find(j, p);
-        if (i == CachedNearest::kNone) continue;
-        equations.Add(p, rotation * normals_[j], sensed[i], noise[i], centre, o, unused);
+        if (i == CachedNearest::kNone || squared > noise[i].gate_squared) continue;
+        equations.Add(p, rotation * normals_[j], sensed[i], noise[i], centre, o, balance * static_cast<double>(stride),
+                      unused);
       }
     }
     const double rmse = inliers > 0 ? std::sqrt(sum_squared / static_cast<double>(inliers)) : 0.0;

@@ -11,7 +11,7 @@ namespace aar {
 
 SensedCloud Reproject(const cv::Mat& disparity16, int invalid_value16, const StereoCalibration& calibration,
                       const Eigen::Isometry3d& tanker_from_left, const ReprojectionOptions& options,
-                      const SubpixelRefiner* refiner) {
+                      const SubpixelRefiner* refiner, cv::Point origin) {
   if (disparity16.type() != CV_16SC1) throw Error("re-projection: disparity must be CV_16S (disparity * 16)");
   if (calibration.Q.rows != 4 || calibration.Q.cols != 4 || calibration.R1.rows != 3 || calibration.R1.cols != 3) {
     throw Error("re-projection: calibration needs a 4x4 Q and a 3x3 R1");
@@ -39,11 +39,13 @@ SensedCloud Reproject(const cv::Mat& disparity16, int invalid_value16, const Ste
   SensedCloud cloud;
   const double min_z = options.min_depth_m, max_z = options.max_depth_m;
   const auto in_range = [&](const Eigen::Vector3d& p) { return p.allFinite() && p.z() > min_z && !(p.z() > max_z); };
-  for (int v = 0; v < disparity16.rows; ++v) {
-    const short* row = disparity16.ptr<short>(v);
-    for (int u = 0; u < disparity16.cols; ++u) {
-      if (row[u] <= invalid_value16) continue;
-      const double d = row[u] / 16.0 - options.disparity_offset_px;
+  for (int row_index = 0; row_index < disparity16.rows; ++row_index) {
+    const short* row = disparity16.ptr<short>(row_index);
+    const int v = row_index + origin.y;
+    for (int column = 0; column < disparity16.cols; ++column) {
+      if (row[column] <= invalid_value16) continue;
+      const int u = column + origin.x;
+      const double d = row[column] / 16.0 - options.disparity_offset_px;
       const Eigen::Vector4d h = q * Eigen::Vector4d(u, v, d, 1.0);  // thesis eq. 1
       Eigen::Vector3d point_in_rect_left = h.head<3>() / h.w();
       if (!in_range(point_in_rect_left)) continue;

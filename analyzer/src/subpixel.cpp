@@ -28,8 +28,8 @@ void SubpixelOptions::Check() const {
 }
 
 SubpixelRefiner::SubpixelRefiner(const cv::Mat& rect_left_gray, const cv::Mat& rect_right_gray,
-                                 const SubpixelOptions& options)
-    : options_(options) {
+                                 const SubpixelOptions& options, cv::Point origin)
+    : options_(options), origin_(origin) {
   options_.Check();
   if (rect_left_gray.type() != CV_8UC1 || rect_right_gray.type() != CV_8UC1 ||
       rect_left_gray.size() != rect_right_gray.size()) {
@@ -42,7 +42,8 @@ SubpixelRefiner::SubpixelRefiner(const cv::Mat& rect_left_gray, const cv::Mat& r
   cv::Sobel(right_, right_dx_, CV_32F, 1, 0, 1, 0.5, 0.0, cv::BORDER_REPLICATE);
 }
 
-std::optional<RefinedDisparity> SubpixelRefiner::Refine(int u, int v, double disparity_px) const {
+std::optional<RefinedDisparity> SubpixelRefiner::Refine(int u_image, int v_image, double disparity_px) const {
+  const int u = u_image - origin_.x, v = v_image - origin_.y;
   const int h = options_.half_window_px;
   const int n = (2 * h + 1) * (2 * h + 1);
   const double d_int = std::round(disparity_px);
@@ -89,7 +90,7 @@ std::optional<RefinedDisparity> SubpixelRefiner::Refine(int u, int v, double dis
     if (!(std::abs(delta - start) <= options_.max_correction_px)) return std::nullopt;
     if (std::abs(step) < options_.tolerance_px) break;
   }
-  out.u_px = u + 0.5 * delta;
+  out.u_px = u_image + 0.5 * delta;
   out.disparity_px = d_int + delta;
   return out;
 }

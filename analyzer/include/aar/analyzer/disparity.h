@@ -59,6 +59,10 @@ class Rectifier {
   /// Rectified 8-bit grayscale images (input gray or BGR, converted with
   /// cv::cvtColor BGR2GRAY first). Sizes must match the calibration's.
   void Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& rect_left_gray, cv::Mat& rect_right_gray) const;
+  /// The same for the pixels of `region` of the rectified images only (an
+  /// empty region: all); the outputs are region-sized.
+  void Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& rect_left_gray, cv::Mat& rect_right_gray,
+               const cv::Rect& region) const;
 
   cv::Size image_size() const { return image_size_; }
 

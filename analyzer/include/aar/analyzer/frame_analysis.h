@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "aar/analyzer/pose_statistics.h"
 #include "aar/analyzer/reference_model.h"
 #include "aar/analyzer/reprojection.h"
+#include "aar/analyzer/stereo_truth.h"
 #include "aar/dataset.h"
 #include "aar/stereo_calibration.h"
 
@@ -68,6 +70,18 @@ struct FrameAnalysisOptions {
   PlaneIcpOptions plane_icp;         ///< for kPointToPlane
   IcpOptions icp;                    ///< for kPointToPoint (thesis 3.6: 30 iterations)
   IcpSeed seed = IcpSeed::kCentroid;
+  /// Tracking (seed kPreviousFrame, once two frames are measured or one is):
+  /// rectify and match only the region where the receiver is predicted
+  /// (constant velocity from the last two estimates; the model's box there,
+  /// grown by track_margin_fraction of its size and track_margin_px, plus the
+  /// disparity search to its left); when the estimate reaches the region's
+  /// border or the frame fails there, the whole image is measured instead.
+  bool track_region = true;
+  double track_margin_fraction = 0.15;
+  int track_margin_px = 16;
+  /// Compare the sensed cloud with the depth truth when the dataset has it
+  /// (stereo_truth.h); `bench` turns it off to time only the pipeline.
+  bool compare_with_truth = true;
   /// When the estimate puts part of the receiver beyond the disparity search
   /// (near frames), match again with the search widened to cover it.
   bool widen_disparity_search = true;
@@ -93,6 +107,12 @@ struct FrameAnalysisOptions {
   void Check() const;
 };
 
+/// The last estimates of a run (flight-path time and pose), for tracking.
+struct TrackHistory {
+  std::optional<std::pair<double, Pose>> last;         ///< most recent measured frame
+  std::optional<std::pair<double, Pose>> before_last;  ///< the one before it
+};
+
 /// Analyzes frames of one dataset with one calibration and one reference model.
 class FrameAnalyzer {
  public:
@@ -104,10 +124,9 @@ class FrameAnalyzer {
   /// missing or corrupt image, a malformed sidecar, a hash mismatch against
   /// `expected_hashes` (relative path -> SHA-256, e.g. the manifest's files),
   /// too few sensed points or a failed registration give a result whose
-  /// `status` says why. `previous` is the last good estimate (for kPreviousFrame).
+  /// `status` says why. `history` holds the last good estimates (for kPreviousFrame).
   FrameResult Analyze(const std::filesystem::path& dataset, size_t index,
-                      const std::map<std::string, std::string>& expected_hashes,
-                      const std::optional<Pose>& previous) const;
+                      const std::map<std::string, std::string>& expected_hashes, const TrackHistory& history) const;
 
  private:
   StereoCalibration calibration_;
@@ -127,6 +146,14 @@ class FrameAnalyzer {
     size_t inliers;
   };
   Registered Register(const std::vector<Eigen::Vector3d>& sensed, const std::optional<Pose>& previous) const;
+  // Rectify, match, re-project and register in `roi` (empty: the whole image).
+  Registered Measure(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, const std::optional<Pose>& seed,
+                     const std::optional<DepthTruth>& truth, const std::string& left_path, FrameResult& r) const;
+  // The model's box in the rectified left image at a pose, grown by margins.
+  cv::Rect PredictedRegion(const Eigen::Isometry3d& tanker_from_receiver, double margin_fraction, int margin_px) const;
+  cv::Rect PredictedRegion(const Eigen::Isometry3d& tanker_from_receiver) const {
+    return PredictedRegion(tanker_from_receiver, options_.track_margin_fraction, options_.track_margin_px);
+  }
   // Largest disparity the model needs at a pose (its nearest point) [px].
   double ModelMaxDisparityPx(const Eigen::Isometry3d& tanker_from_receiver) const;
 };

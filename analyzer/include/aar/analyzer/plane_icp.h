@@ -56,8 +56,17 @@ struct PlaneIcpOptions {
   double translation_tolerance_m = 1e-4;
   double rotation_tolerance_rad = 2e-5;   ///< [rad]
   PlanePairing pairing = PlanePairing::kSymmetric;
-  /// Pairs farther apart are ignored [m]; the robust kernel handles the rest.
+  /// Pairs farther apart than the larger of this and gate_sigmas times the
+  /// sensed point's along-ray sigma are ignored [m] (the gate grows with the
+  /// depth noise, so far clouds are not cut); the robust kernel handles the rest.
   double max_correspondence_distance_m = 2.0;
+  double gate_sigmas = 3.0;  ///< [sigmas]
+  /// Symmetric pairing: scale the model-to-sensed pairs by sensed / model
+  /// points, so that each direction weighs the same in total.
+  bool balance_directions = false;
+  /// Symmetric pairing: at most this many model points query the sensed
+  /// cloud per iteration (every k-th, weighted k); 0 = all.
+  size_t max_model_queries = 4000;
   double robust_scale = 2.0;  ///< Cauchy kernel scale [sigmas]
   // Stereo noise model (see above).
   double disparity_noise_px = 0.1;  ///< sigma_d: disparity noise [px]

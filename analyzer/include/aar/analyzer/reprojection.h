@@ -53,9 +53,10 @@ struct SensedCloud {
 /// The survivors are decimated one in keep_one_in (or the target_points
 /// step), in row-major order. With a `refiner`, each kept disparity is then
 /// refined (SubpixelRefiner::Refine; points it rejects are dropped) and the
-/// point re-projected from the refined left column and disparity.
+/// point re-projected from the refined left column and disparity. `origin`
+/// is the rectified-image pixel of the map's top-left (a region of the image).
 SensedCloud Reproject(const cv::Mat& disparity16, int invalid_value16, const StereoCalibration& calibration,
                       const Eigen::Isometry3d& tanker_from_left, const ReprojectionOptions& options,
-                      const SubpixelRefiner* refiner = nullptr);
+                      const SubpixelRefiner* refiner = nullptr, cv::Point origin = {0, 0});
 
 }  // namespace aar

@@ -46,7 +46,9 @@ struct RefinedDisparity {
 /// gradient images are computed once here.
 class SubpixelRefiner {
  public:
-  SubpixelRefiner(const cv::Mat& rect_left_gray, const cv::Mat& rect_right_gray, const SubpixelOptions& options);
+  /// `origin`: the rectified-image pixel of the images' top-left (a region).
+  SubpixelRefiner(const cv::Mat& rect_left_gray, const cv::Mat& rect_right_gray, const SubpixelOptions& options,
+                  cv::Point origin = {0, 0});
 
   /// Refines the disparity `disparity_px` of rectified left pixel (u, v);
   /// nullopt when the window leaves the image, lacks texture, or the estimate
@@ -57,6 +59,7 @@ class SubpixelRefiner {
   cv::Mat left_, right_;            // CV_32F intensities
   cv::Mat left_dx_, right_dx_;      // CV_32F horizontal derivatives
   SubpixelOptions options_;
+  cv::Point origin_;
 };
 
 }  // namespace aar
