@@ -66,7 +66,7 @@ struct RunFlags {
   std::optional<std::string> seed, registration, correspondence, pairing;
   std::optional<int> icp_iterations, num_disparities, block_size;
   std::optional<double> max_correspondence_m, disparity_offset_px, disparity_noise_px, gate_sigmas;
-  std::optional<size_t> keep_one_in, target_points;
+  std::optional<size_t> keep_one_in, target_points, model_queries;
   std::optional<bool> halo, subpixel, rounding, widen, balance;
   bool truth_cloud = false;
 
@@ -91,6 +91,8 @@ struct RunFlags {
     cmd->add_option("--balance", balance, "symmetric pairing: weigh both directions equally in total (default: false)");
     cmd->add_option("--gate-sigmas", gate_sigmas,
                     "point-to-plane: pairs beyond this many along-ray sigmas (or --max-correspondence) are ignored (3)");
+    cmd->add_option("--model-queries", model_queries,
+                    "symmetric pairing: model points that query the cloud per iteration, at most (4000; 0 = all)");
     cmd->add_option("--icp-iterations", icp_iterations, "ICP iterations at most (thesis 30, default 60)");
     cmd->add_option("--max-correspondence", max_correspondence_m,
                     "ICP pairs farther apart are ignored [m] (thesis: none; default 2)");
@@ -150,6 +152,7 @@ struct RunFlags {
     if (widen) f.widen_disparity_search = *widen;
     if (balance) f.plane_icp.balance_directions = *balance;
     if (gate_sigmas) f.plane_icp.gate_sigmas = *gate_sigmas;
+    if (model_queries) f.plane_icp.max_model_queries = *model_queries;
     if (disparity_offset_px) f.reprojection.disparity_offset_px = *disparity_offset_px;
     if (disparity_noise_px) f.plane_icp.disparity_noise_px = f.disparity_noise_px = *disparity_noise_px;
     if (keep_one_in) f.reprojection.keep_one_in = *keep_one_in;

@@ -53,8 +53,8 @@ struct PlaneIcpOptions {
   /// Converged when a step moves less than this [m] and turns less than
   /// rotation_tolerance_rad: far below the errors of interest (1 mm, 0.001
   /// deg), above the jitter of switching nearest neighbours.
-  double translation_tolerance_m = 1e-4;
-  double rotation_tolerance_rad = 2e-5;   ///< [rad]
+  double translation_tolerance_m = 1e-3;
+  double rotation_tolerance_rad = 1e-4;   ///< [rad]
   PlanePairing pairing = PlanePairing::kSymmetric;
   /// Pairs farther apart than the larger of this and gate_sigmas times the
   /// sensed point's along-ray sigma are ignored [m] (the gate grows with the
