@@ -214,9 +214,11 @@ def analyze(ctx, run_name, dataset, model, selection, calibration=None, reuse=Tr
     out = ctx.out / "runs" / run_name
     if out.exists():
         shutil.rmtree(out)
-    argv = [ctx.analyze, "run", dataset, "--model", model, "--icp-iterations", "30", *PUBLISHED_PIPELINE]
-    if "--correspondence" not in extra:
-        argv += list(PUBLISHED_PAIRING)
+    argv = [ctx.analyze, "run", dataset, "--model", model]
+    if "--preset" not in extra:  # an explicit preset runs as it is
+        argv += ["--icp-iterations", "30", *PUBLISHED_PIPELINE]
+        if "--correspondence" not in extra:
+            argv += list(PUBLISHED_PAIRING)
     if calibration is not None:
         argv += ["--calibration", calibration]
     argv += list(extra) + selection_args(selection) + ["--out", out]
