@@ -68,7 +68,7 @@ struct RunFlags {
   std::optional<double> max_correspondence_m, disparity_offset_px, disparity_noise_px, gate_sigmas;
   std::optional<size_t> keep_one_in, target_points, model_queries;
   std::optional<bool> halo, subpixel, rounding, widen, balance;
-  bool truth_cloud = false;
+  bool truth_cloud = false, track = false;
 
   void Add(CLI::App* cmd) {
     aar::AnalysisRunOptions& o = options;
@@ -83,7 +83,7 @@ struct RunFlags {
     cmd->add_option("--receiver", receiver, "receiver glTF (default: DATASET/receiver.glb)");
     cmd->add_option("--frames", frames, "half-open range a:b of frame indices");
     cmd->add_option("--shard", shard, "analyze frames i with i % N == K (K/N); defaults to the Slurm array variables");
-    cmd->add_option("--seed", seed, "ICP seed: centroid (thesis) or previous (last frame's estimate)");
+    cmd->add_option("--seed", seed, "ICP seed: centroid (thesis) or previous (the last estimates at constant velocity)");
     cmd->add_option("--registration", registration, "point_to_plane (default preset) or point_to_point (thesis)");
     cmd->add_option("--correspondence", correspondence,
                     "point-to-point pairing: model_to_sensed (thesis) or sensed_to_model");
@@ -111,6 +111,8 @@ struct RunFlags {
     cmd->add_option("--keep-one-in", keep_one_in, "keep one re-projected point in N (8)");
     cmd->add_option("--target-points", target_points,
                     "raise the decimation so that about this many points remain (default preset 4000; 0 = off)");
+    cmd->add_flag("--track", track,
+                  "match only where the receiver is predicted from the last two frames (whole image when lost)");
     cmd->add_flag("--truth-cloud", truth_cloud,
                   "diagnosis: register the ideal cloud (depth truth at the sensed pixels; datasets with --depth)");
     cmd->add_flag("--no-progress", [this](int64_t) { options.progress = false; }, "quiet stderr");
@@ -158,6 +160,7 @@ struct RunFlags {
     if (keep_one_in) f.reprojection.keep_one_in = *keep_one_in;
     if (target_points) f.reprojection.target_points = *target_points;
     f.register_truth_cloud = truth_cloud;
+    f.track_region = track;
     f.Check();
     if (o.out.empty()) o.out = std::filesystem::path("results") / (DatasetName(o.dataset) + "-" + o.reference.model);
   }

@@ -28,7 +28,8 @@ nlohmann::json Finite(double value) { return std::isfinite(value) ? nlohmann::js
 
 nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
   const FrameAnalysisOptions& f = o.frame;
-  nlohmann::json registration = {{"algorithm", ToString(f.registration)}, {"seed", ToString(f.seed)}};
+  nlohmann::json registration = {
+      {"algorithm", ToString(f.registration)}, {"seed", ToString(f.seed)}, {"track_region", f.track_region}};
   if (f.registration == Registration::kPointToPoint) {
     registration.update({{"max_iterations", f.icp.max_iterations},
                          {"correspondence", ToString(f.icp.correspondence)},

@@ -295,16 +295,17 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
         predicted->yaw_deg = b.yaw_deg + k * WrapDegrees(b.yaw_deg - a.yaw_deg);
       }
     }
-    const bool tracking = options_.seed == IcpSeed::kPreviousFrame && predicted.has_value();
+    const bool seed_from_track = options_.seed == IcpSeed::kPreviousFrame && predicted.has_value();
+    const std::optional<Pose> seed = seed_from_track ? predicted : std::nullopt;
     Registered icp{};
     bool measured = false;
     StageTimes lost_times;  // spent on a region the receiver was not (all) in
-    if (tracking && options_.track_region) {
+    if (options_.track_region && predicted) {
       const cv::Rect roi = PredictedRegion(IsometryFromPose(*predicted));
       if (roi.area() > 0) {
         FrameResult attempt = r;
         try {
-          icp = Measure(left, right, roi, predicted, truth, left_path, attempt);
+          icp = Measure(left, right, roi, seed, truth, left_path, attempt);
           // Lost when the receiver reaches the region's border: measure the whole image.
           const cv::Rect estimated = PredictedRegion(icp.tanker_from_receiver, 0.0, 0);
           measured = estimated.area() > 0 && (estimated & roi) == estimated;
@@ -319,7 +320,7 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
       }
     }
     if (!measured) {
-      icp = Measure(left, right, cv::Rect(), tracking ? predicted : std::nullopt, truth, left_path, r);
+      icp = Measure(left, right, cv::Rect(), seed, truth, left_path, r);
       r.times.rectify_ms += lost_times.rectify_ms;
       r.times.disparity_ms += lost_times.disparity_ms;
       r.times.reproject_ms += lost_times.reproject_ms;

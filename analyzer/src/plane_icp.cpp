@@ -139,6 +139,11 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
 
   PlaneIcpResult result;
   result.tanker_from_receiver = initial_tanker_from_receiver;
+  // Coarse phase: every coarse_stride-th point of both clouds (weighted
+  // coarse_stride) until the steps fall below ten times the tolerances; the
+  // fine phase then uses every point. Early steps are large and miss the
+  // nearest-neighbour cache, so they are the expensive ones.
+  size_t coarse = std::max<size_t>(1, o.coarse_stride);
   for (int k = 0;; ++k) {
     const Eigen::Isometry3d& tanker_from_receiver = result.tanker_from_receiver;
     const Eigen::Isometry3d receiver_from_tanker = tanker_from_receiver.inverse();
@@ -146,13 +151,14 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
     NormalEquations equations;
     double sum_squared = 0.0;
     size_t inliers = 0;
-    for (size_t i = 0; i < sensed.size(); ++i) {
+    for (size_t i = 0; i < sensed.size(); i += coarse) {
       const auto [j, squared] = to_model.Find(i, receiver_from_tanker * sensed[i]);
       if (j == CachedNearest::kNone || squared > noise[i].gate_squared) continue;
-      equations.Add(tanker_from_receiver * model_[j], rotation * normals_[j], sensed[i], noise[i], centre, o, 1.0,
-                    sum_squared);
+      equations.Add(tanker_from_receiver * model_[j], rotation * normals_[j], sensed[i], noise[i], centre, o,
+                    static_cast<double>(coarse), sum_squared);
       ++inliers;
     }
+    inliers *= coarse;
     if (symmetric) {
       double unused = 0.0;
       // Each direction weighs as much in total as the other, whatever the
@@ -160,7 +166,8 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
       const double balance =
           o.balance_directions ? static_cast<double>(sensed.size()) / static_cast<double>(model_.size()) : 1.0;
       // Every stride-th model point, each standing for stride of them.
-      const size_t stride = o.max_model_queries > 0 ? (model_.size() + o.max_model_queries - 1) / o.max_model_queries : 1;
+      const size_t stride =
+          coarse * (o.max_model_queries > 0 ? (model_.size() + o.max_model_queries - 1) / o.max_model_queries : 1);
       for (size_t j = 0; j < model_.size(); j += stride) {
         const Eigen::Vector3d p = tanker_from_receiver * model_[j];
         const auto [i, squared] = to_sensed->Find(j, p);
@@ -169,7 +176,7 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
                       unused);
       }
     }
-    const double rmse = inliers > 0 ? std::sqrt(sum_squared / static_cast<double>(inliers)) : 0.0;
+    const double rmse = inliers > 0 ? std::sqrt(sum_squared * static_cast<double>(coarse) / static_cast<double>(inliers)) : 0.0;
     if (k == 0) result.initial_rmse_m = rmse;
     result.num_inliers = inliers;
     result.rmse_m = rmse;
@@ -187,6 +194,10 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
     increment.translation() = centre + v - increment.linear() * centre;
     result.tanker_from_receiver = increment * result.tanker_from_receiver;
     ++result.iterations;
+    if (coarse > 1) {
+      if (v.norm() < 10.0 * o.translation_tolerance_m && angle < 10.0 * o.rotation_tolerance_rad) coarse = 1;
+      continue;
+    }
     // One more association after convergence gives the final statistics.
     result.converged = v.norm() < o.translation_tolerance_m && angle < o.rotation_tolerance_rad;
   }

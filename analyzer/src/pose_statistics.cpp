@@ -420,6 +420,51 @@ std::string SummaryToMarkdown(const Summary& summary) {
          DofTable(summary, regions, "Region", false) + "\n";
   out += std::string("## RMS 6DOF error by region (Table 5 layout)\n\n") + DofTable(summary, regions, "Region", true) +
          "\n";
+  out += "## Every frame (mean absolute error of every frame with an estimate, measured or rejected)\n\n"
+          "| Region | Model | X (m) | Y (m) | Z (m) | Roll (deg) | Pitch (deg) | Yaw (deg) | Frames (estimated/all) |\n"
+          "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const std::string& group : regions) {
+    for (const ModelSummary& m : summary.models) {
+      const GroupStats* g = FindGroup(m, group);
+      if (g == nullptr) continue;
+      out += "|";
+      AppendCell(out, group);
+      AppendCell(out, DisplayName(m.model));
+      for (size_t d = 0; d < 6; ++d) {
+        AppendCell(out, g->with_estimate == 0 ? std::string("n/a") : FormatFixed(g->mean_abs_error_all[d], 3));
+      }
+      AppendCell(out, std::to_string(g->with_estimate) + "/" + std::to_string(g->frames));
+      out += "\n";
+    }
+  }
+  out += "\n";
+  bool any_truth = false;
+  for (const ModelSummary& m : summary.models) {
+    for (const GroupStats& g : m.groups) any_truth = any_truth || g.stereo_truth.points > 0;
+  }
+  if (any_truth) {
+    out += "## The sensed cloud against depth truth\n\n"
+           "| Region | Model | Points | Off the receiver | Off the surface (> 0.5 px) | Disparity error mean (px) | RMS (px) |\n"
+           "|---|---|---:|---:|---:|---:|---:|\n";
+    for (const std::string& group : regions) {
+      for (const ModelSummary& m : summary.models) {
+        const GroupStats* g = FindGroup(m, group);
+        if (g == nullptr || g->stereo_truth.points == 0) continue;
+        const StereoTruthStats& t = g->stereo_truth;
+        const double n = static_cast<double>(t.points);
+        out += "|";
+        AppendCell(out, group);
+        AppendCell(out, DisplayName(m.model));
+        AppendCell(out, std::to_string(t.points));
+        AppendCell(out, FormatFixed(100.0 * static_cast<double>(t.off_receiver) / n, 1) + " %");
+        AppendCell(out, FormatFixed(100.0 * static_cast<double>(t.off_surface) / n, 1) + " %");
+        AppendCell(out, FormatFixed(t.MeanErrorPx(), 4));
+        AppendCell(out, FormatFixed(t.RmsErrorPx(), 4));
+        out += "\n";
+      }
+    }
+    out += "\n";
+  }
   out +=
       "## ICP execution time by range (Table 3 layout; machine-dependent)\n\n"
       "| Range | Model | Average ICP time (ms) | Standard deviation (ms) | Frames (ok) |\n"

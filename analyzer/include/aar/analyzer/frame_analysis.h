@@ -25,7 +25,7 @@ namespace aar {
 
 enum class IcpSeed {
   kCentroid,       ///< zero attitude at the sensed cloud's centroid (thesis Experiment 1)
-  kPreviousFrame,  ///< the previous frame's estimate (centroid for the first frame or after a failure)
+  kPreviousFrame,  ///< the previous estimates, extrapolated at constant velocity (centroid for the first frame or after a failure)
 };
 std::string ToString(IcpSeed seed);
 IcpSeed ParseIcpSeed(const std::string& text);
@@ -70,13 +70,14 @@ struct FrameAnalysisOptions {
   PlaneIcpOptions plane_icp;         ///< for kPointToPlane
   IcpOptions icp;                    ///< for kPointToPoint (thesis 3.6: 30 iterations)
   IcpSeed seed = IcpSeed::kCentroid;
-  /// Tracking (seed kPreviousFrame, once two frames are measured or one is):
-  /// rectify and match only the region where the receiver is predicted
-  /// (constant velocity from the last two estimates; the model's box there,
-  /// grown by track_margin_fraction of its size and track_margin_px, plus the
-  /// disparity search to its left); when the estimate reaches the region's
-  /// border or the frame fails there, the whole image is measured instead.
-  bool track_region = true;
+  /// Tracking (once a frame is measured): rectify and match only the region
+  /// where the receiver is predicted (constant velocity from the last two
+  /// estimates; the model's box there, grown by track_margin_fraction of its
+  /// size and track_margin_px, plus the disparity search to its left); when
+  /// the estimate reaches the region's border or the frame fails there, the
+  /// whole image is measured instead. Independent of `seed`. Off by default:
+  /// results then depend on the frames before, so shards differ from one run.
+  bool track_region = false;
   double track_margin_fraction = 0.15;
   int track_margin_px = 16;
   /// Compare the sensed cloud with the depth truth when the dataset has it

@@ -67,6 +67,9 @@ struct PlaneIcpOptions {
   /// Symmetric pairing: at most this many model points query the sensed
   /// cloud per iteration (every k-th, weighted k); 0 = all.
   size_t max_model_queries = 4000;
+  /// Coarse-to-fine: iterate on every k-th point of both clouds until the
+  /// steps are below ten times the tolerances, then on all; 1 = off.
+  size_t coarse_stride = 8;
   double robust_scale = 2.0;  ///< Cauchy kernel scale [sigmas]
   // Stereo noise model (see above).
   double disparity_noise_px = 0.1;  ///< sigma_d: disparity noise [px]
