@@ -126,20 +126,16 @@ BoardSpec SidecarBoard(const std::filesystem::path& sidecar, const BoardSpec& fa
 
 }  // namespace
 
-bool CalibrationOptions::IsValid(std::string* error) const {
-  auto fail = [&](const std::string& message) {
-    if (error) *error = message;
-    return false;
-  };
-  if (board.inner_corners_x < 2 || board.inner_corners_y < 2) return fail("board needs at least 2x2 inner corners");
-  if (!(board.square_m > 0)) return fail("board square size must be positive");
-  if (subpix_half_window_px < 1) return fail("subpix_half_window_px must be at least 1");
-  if (subpix_max_iterations < 1 || max_iterations < 1) return fail("iteration counts must be positive");
-  if (!(subpix_epsilon_px >= 0) || !(epsilon >= 0)) return fail("epsilons must be non-negative");
-  if (!(rectify_alpha == -1.0 || (rectify_alpha >= 0 && rectify_alpha <= 1))) return fail("rectify_alpha must be -1 or in [0, 1]");
-  if (min_pairs < 3) return fail("min_pairs must be at least 3 (Zhang's method)");
-  if (!(min_pair_fraction >= 0 && min_pair_fraction <= 1)) return fail("min_pair_fraction must be in [0, 1]");
-  return true;
+void CalibrationOptions::Check() const {
+  const auto fail = [](const std::string& message) { throw Error("calibration options: " + message); };
+  if (board.inner_corners_x < 2 || board.inner_corners_y < 2) fail("board needs at least 2x2 inner corners");
+  if (!(board.square_m > 0)) fail("board square size must be positive");
+  if (subpix_half_window_px < 1) fail("subpix_half_window_px must be at least 1");
+  if (subpix_max_iterations < 1 || max_iterations < 1) fail("iteration counts must be positive");
+  if (!(subpix_epsilon_px >= 0) || !(epsilon >= 0)) fail("epsilons must be non-negative");
+  if (!(rectify_alpha == -1.0 || (rectify_alpha >= 0 && rectify_alpha <= 1))) fail("rectify_alpha must be -1 or in [0, 1]");
+  if (min_pairs < 3) fail("min_pairs must be at least 3 (Zhang's method)");
+  if (!(min_pair_fraction >= 0 && min_pair_fraction <= 1)) fail("min_pair_fraction must be in [0, 1]");
 }
 
 std::optional<std::vector<cv::Point2f>> DetectBoardCorners(const cv::Mat& image, const CalibrationOptions& options) {
@@ -190,8 +186,7 @@ PairDetection DetectBoardPair(const StereoImagePair& pair, const CalibrationOpti
 CalibrationResult CalibrateFromDetections(std::vector<PairDetection> pairs, cv::Size image_size,
                                           const CalibrationOptions& options,
                                           const std::optional<StereoCalibration>& ideal, const std::string& source) {
-  std::string invalid;
-  if (!options.IsValid(&invalid)) throw Error("calibration options: " + invalid);
+  options.Check();
   CalibrationResult result;
   std::vector<std::vector<cv::Point3f>> object_points;
   std::vector<std::vector<cv::Point2f>> left_points, right_points;

@@ -143,7 +143,7 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
   // coarse_stride) until the steps fall below ten times the tolerances; the
   // fine phase then uses every point. Early steps are large and miss the
   // nearest-neighbour cache, so they are the expensive ones.
-  size_t coarse = std::max<size_t>(1, o.coarse_stride);
+  size_t coarse = std::max<size_t>(1, std::min(o.coarse_stride, sensed.size() / std::max<size_t>(1, o.coarse_min_points)));
   for (int k = 0;; ++k) {
     const Eigen::Isometry3d& tanker_from_receiver = result.tanker_from_receiver;
     const Eigen::Isometry3d receiver_from_tanker = tanker_from_receiver.inverse();

@@ -368,13 +368,16 @@ TEST(Calibration, MissingOrCorruptImageIsAnErrorNamingTheFile) {
 TEST(Calibration, RejectsInvalidOptions) {
   CalibrationOptions options;
   options.min_pairs = 2;
-  std::string why;
-  EXPECT_FALSE(options.IsValid(&why));
-  EXPECT_NE(why.find("min_pairs"), std::string::npos);
+  try {
+    options.Check();
+    ADD_FAILURE() << "min_pairs 2 accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("min_pairs"), std::string::npos) << e.what();
+  }
   options = CalibrationOptions{};
   options.rectify_alpha = 2.0;
-  EXPECT_FALSE(options.IsValid());
-  EXPECT_TRUE(CalibrationOptions{}.IsValid());
+  EXPECT_THROW(options.Check(), Error);
+  EXPECT_NO_THROW(CalibrationOptions{}.Check());
 }
 
 }  // namespace

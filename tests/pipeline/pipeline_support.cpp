@@ -46,6 +46,7 @@ struct DatasetRecipe {
   std::string flight_path_csv;  ///< content
   int msaa = 16;
   bool calib = false;  ///< also render the 12 calibration pairs
+  bool depth = false;  ///< also render depth truth and object ids
 };
 
 // The near-contact CSV: conops.csv frames 590 .. 590 + kNearContactFrames - 1 (region C, ~32 m).
@@ -67,7 +68,8 @@ std::string CacheKey(const DatasetRecipe& recipe) {
   }
   const char* icd = std::getenv("VK_ICD_FILENAMES");
   key << "VK_ICD_FILENAMES " << (icd != nullptr ? icd : "") << "\n";
-  key << "msaa " << recipe.msaa << " calib " << recipe.calib << "\n" << recipe.flight_path_csv;
+  key << "msaa " << recipe.msaa << " calib " << recipe.calib << " depth " << recipe.depth << "\n"
+      << recipe.flight_path_csv;
   return Sha256Hex(key.str());
 }
 
@@ -105,7 +107,8 @@ std::string EnsureDataset(const DatasetRecipe& recipe, fs::path* dir_out) {
     commands.push_back("calib " + Quote(dir) + common + " --board " + Quote(SourcePath("scenes/calib_board.glb")));
   }
   commands.push_back("render " + Quote(dir) + common + " --receiver " + Quote(SourcePath("scenes/c12.glb")) +
-                     " --tanker " + Quote(SourcePath("scenes/kc46.glb")) + " --flight-path " + Quote(csv));
+                     " --tanker " + Quote(SourcePath("scenes/kc46.glb")) + " --flight-path " + Quote(csv) +
+                     (recipe.depth ? " --depth" : ""));
   for (const std::string& arguments : commands) {
     const std::string command = kNoSlurm + Quote(RenderExe()) + " " + arguments;
     const CommandResult result = RunCommand(command);
@@ -123,7 +126,7 @@ PipelineDatasets RenderSharedDatasets() {
   try {
     fs::create_directories(CacheRoot());
     const FileLock lock(CacheRoot() / "lock");
-    datasets.error = EnsureDataset({"near-contact-x16", NearContactCsv(), 16, true}, &datasets.near_contact);
+    datasets.error = EnsureDataset({"near-contact-x16", NearContactCsv(), 16, true, true}, &datasets.near_contact);
     if (datasets.error.empty()) {
       const std::string csv =
           "time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg\n"

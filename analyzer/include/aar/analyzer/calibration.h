@@ -49,8 +49,8 @@ struct CalibrationOptions {
   size_t min_pairs = 5;            ///< fewest pairs with the board found in both images
   double min_pair_fraction = 0.5;  ///< fewest pairs with the board found, as a fraction of the pairs given
 
-  /// False (and the reason in *error when given) when a value is out of range.
-  bool IsValid(std::string* error = nullptr) const;
+  /// Throws aar::Error naming the first value out of range.
+  void Check() const;
 };
 
 /// One stereo pair given to the calibration.

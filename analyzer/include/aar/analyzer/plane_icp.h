@@ -70,6 +70,7 @@ struct PlaneIcpOptions {
   /// Coarse-to-fine: iterate on every k-th point of both clouds until the
   /// steps are below ten times the tolerances, then on all; 1 = off.
   size_t coarse_stride = 8;
+  size_t coarse_min_points = 250;  ///< the coarse phase keeps at least this many sensed points (far clouds: none)
   double robust_scale = 2.0;  ///< Cauchy kernel scale [sigmas]
   // Stereo noise model (see above).
   double disparity_noise_px = 0.1;  ///< sigma_d: disparity noise [px]

@@ -1,6 +1,5 @@
 #pragma once
-// Per-frame pose-estimation records, their CSV file, and the thesis's
-// statistics (section 3.7, chapter IV): mean absolute error and RMS error
+// The thesis's statistics over per-frame records (frame_results.h) (section 3.7, chapter IV): mean absolute error and RMS error
 // (equation 4) of each degree of freedom per region (A, B, C; Tables 4-5)
 // and per range bin (20-60 m, 60-110 m; Tables 1-2), and ICP execution time
 // mean and standard deviation (Table 3).
@@ -14,87 +13,9 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "aar/analyzer/stereo_truth.h"
-#include "aar/pose.h"
+#include "aar/analyzer/frame_results.h"
 
 namespace aar {
-
-/// Six values in the thesis's column order: X, Y, Z [m], roll, pitch, yaw [deg].
-struct SixDof {
-  std::array<double, 6> values{};  ///< x_m, y_m, z_m, roll_deg, pitch_deg, yaw_deg
-  double& operator[](size_t i) { return values[i]; }
-  double operator[](size_t i) const { return values[i]; }
-};
-
-/// Column suffixes of the six degrees of freedom.
-inline constexpr std::array<const char*, 6> kDofNames = {"x_m", "y_m", "z_m", "roll_deg", "pitch_deg", "yaw_deg"};
-
-/// x, y, z, roll, pitch, yaw of a pose as six values.
-SixDof PoseValues(const Pose& pose);
-
-/// estimate - truth per degree of freedom, angle differences wrapped to (-180, 180].
-SixDof PoseError(const Pose& estimate, const Pose& truth);
-
-/// Wall-clock milliseconds of the pipeline stages of one frame.
-struct StageTimes {
-  double load_ms = 0.0;       ///< reading the image pair [ms]
-  double rectify_ms = 0.0;    ///< rectification [ms]
-  double disparity_ms = 0.0;  ///< stereo block matching [ms]
-  double reproject_ms = 0.0;  ///< re-projection, filtering, decimation, to tanker frame [ms]
-  double icp_ms = 0.0;        ///< seeding and ICP [ms]
-  double total_ms = 0.0;      ///< the whole frame [ms]
-};
-
-/// One frame of one run (one reference model).
-struct FrameResult {
-  size_t frame = 0;             ///< frame index in the dataset
-  double time_s = 0.0;          ///< flight-path time [s]
-  std::string region = "none";  ///< RegionForRange(range_m), as recorded
-  double range_m = 0.0;         ///< left camera centre to receiver reference point [m]
-  /// "ok", or why the frame has no estimate (e.g. "too few sensed points").
-  /// Commas and line breaks are replaced by ';' and ' ' when written.
-  std::string status = "ok";
-  Pose truth;                  ///< true tanker_from_receiver
-  Pose estimate;               ///< estimated tanker_from_receiver (meaningful when ok)
-  SixDof error;                ///< PoseError(estimate, truth) (meaningful when ok)
-  size_t sensed_points = 0;    ///< points of the sensed cloud given to ICP
-  int icp_iterations = 0;      ///< IcpResult::iterations
-  bool icp_converged = false;  ///< IcpResult::converged
-  double icp_rmse_m = 0.0;     ///< IcpResult::rmse_m [m]
-  size_t icp_inliers = 0;      ///< IcpResult::num_inliers
-  StageTimes times;            ///< stage timings [ms]
-  /// The sensed cloud against the depth truth (datasets with --depth; zero points otherwise).
-  StereoTruthStats stereo_truth;
-
-  /// An estimate exists (ok, or registered but rejected, e.g. by the
-  /// residual test); est_* and err_* are then written even when not ok.
-  bool has_estimate = false;
-
-  bool ok() const { return status == "ok"; }
-};
-
-/// The CSV header (one line, no newline). The timing columns ms_* come last
-/// so that `cut -d, -f1-34` drops them for comparisons.
-std::string FrameResultsCsvHeader();
-
-/// Header and one line per frame, in the given order. Fixed decimals
-/// (aar::FormatFixed): 6 for seconds, metres and degrees, 3 for milliseconds.
-/// est_* and err_* are empty for frames that are not ok.
-std::string FormatFrameResults(const std::vector<FrameResult>& results);
-
-/// Parses FormatFrameResults's text; `where` (a file name) prefixes errors,
-/// which name the line and column.
-std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::string& where);
-
-/// Atomic write / read of a results CSV; errors name the file.
-void WriteFrameResults(const std::filesystem::path& path, const std::vector<FrameResult>& results);
-std::vector<FrameResult> ReadFrameResults(const std::filesystem::path& path);
-
-/// Concatenates per-shard results sorted by frame index. Throws aar::Error
-/// naming the frame and both shards (by `shard_names` when given, else by
-/// position) when a frame appears twice.
-std::vector<FrameResult> MergeFrameResults(const std::vector<std::vector<FrameResult>>& shards,
-                                           const std::vector<std::string>& shard_names = {});
 
 /// Statistics of one group of frames.
 struct GroupStats {

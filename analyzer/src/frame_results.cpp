@@ -1,0 +1,229 @@
+#include "aar/analyzer/frame_results.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "aar/error.h"
+#include "aar/file_io.h"
+#include "aar/text.h"
+
+namespace aar {
+namespace {
+
+constexpr int kValueDecimals = 6;  // seconds, metres, degrees
+constexpr int kTimeDecimals = 3;   // milliseconds
+constexpr size_t kColumns = 40;
+
+const std::array<const char*, 6> kTimeColumns = {"ms_load",      "ms_rectify", "ms_disparity",
+                                                 "ms_reproject", "ms_icp",     "ms_total"};
+
+std::array<double*, 6> TimeFields(StageTimes& t) {
+  return {&t.load_ms, &t.rectify_ms, &t.disparity_ms, &t.reproject_ms, &t.icp_ms, &t.total_ms};
+}
+
+Pose PoseFromValues(const SixDof& v) {
+  Pose pose;
+  pose.translation_m = Eigen::Vector3d(v[0], v[1], v[2]);
+  pose.roll_deg = v[3];
+  pose.pitch_deg = v[4];
+  pose.yaw_deg = v[5];
+  return pose;
+}
+
+std::string CleanStatus(const std::string& status) {
+  std::string s = status.empty() ? std::string("failed") : status;
+  for (char& c : s) {
+    if (c == ',') c = ';';
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  return s;
+}
+
+}  // namespace
+
+SixDof PoseValues(const Pose& pose) {
+  SixDof v;
+  v.values = {pose.translation_m.x(), pose.translation_m.y(), pose.translation_m.z(),
+              pose.roll_deg,          pose.pitch_deg,         pose.yaw_deg};
+  return v;
+}
+
+SixDof PoseError(const Pose& estimate, const Pose& truth) {
+  const SixDof e = PoseValues(estimate);
+  const SixDof t = PoseValues(truth);
+  SixDof error;
+  for (size_t d = 0; d < 6; ++d) error[d] = d < 3 ? e[d] - t[d] : WrapDegrees(e[d] - t[d]);
+  return error;
+}
+
+std::string FrameResultsCsvHeader() {
+  std::string h = "frame,time_s,region,range_m,status";
+  for (const char* prefix : {"truth_", "est_", "err_"}) {
+    for (const char* dof : kDofNames) h += std::string(",") + prefix + dof;
+  }
+  h += ",sensed_points,icp_iterations,icp_converged,icp_rmse_m,icp_inliers";
+  h += ",truth_points,truth_off_receiver,truth_off_surface,truth_error_sum_px,truth_error_squared_sum_px2,"
+       "truth_error_by_fraction";
+  for (const char* column : kTimeColumns) h += std::string(",") + column;
+  return h;
+}
+
+std::string FormatFrameResults(const std::vector<FrameResult>& results) {
+  std::string out = FrameResultsCsvHeader();
+  out += '\n';
+  const auto field = [&out](const std::string& text) {
+    out += ',';
+    out += text;
+  };
+  for (const FrameResult& f : results) {
+    out += std::to_string(f.frame);
+    field(FormatFixed(f.time_s, kValueDecimals));
+    field(f.region);
+    field(FormatFixed(f.range_m, kValueDecimals));
+    field(CleanStatus(f.status));
+    const SixDof truth = PoseValues(f.truth);
+    const SixDof estimate = PoseValues(f.estimate);
+    for (const SixDof* v : {&truth, &estimate, &f.error}) {
+      for (size_t d = 0; d < 6; ++d) {
+        field(v == &truth || f.ok() || f.has_estimate ? FormatFixed((*v)[d], kValueDecimals) : std::string());
+      }
+    }
+    field(std::to_string(f.sensed_points));
+    field(std::to_string(f.icp_iterations));
+    field(f.icp_converged ? "1" : "0");
+    field(FormatFixed(f.icp_rmse_m, kValueDecimals));
+    field(std::to_string(f.icp_inliers));
+    const StereoTruthStats& t = f.stereo_truth;
+    field(std::to_string(t.points));
+    field(std::to_string(t.off_receiver));
+    field(std::to_string(t.off_surface));
+    field(FormatFixed(t.error_sum_px, kValueDecimals));
+    field(FormatFixed(t.error_squared_sum_px2, kValueDecimals));
+    std::string bins;
+    for (size_t b = 0; b < kFractionBins; ++b) {
+      bins += (b ? " " : "") + std::to_string(t.bin_count[b]) + "/" + FormatFixed(t.bin_error_sum_px[b], kValueDecimals);
+    }
+    field(bins);
+    StageTimes times = f.times;
+    for (const double* t : TimeFields(times)) field(FormatFixed(*t, kTimeDecimals));
+    out += '\n';
+  }
+  return out;
+}
+
+std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::string& where) {
+  std::vector<FrameResult> results;
+  size_t pos = 0;
+  bool header_seen = false;
+  for (size_t line_number = 1; pos < text.size(); ++line_number) {
+    const size_t newline = text.find('\n', pos);
+    const std::string line =
+        TrimCr(text.substr(pos, newline == std::string_view::npos ? std::string_view::npos : newline - pos));
+    pos = newline == std::string_view::npos ? text.size() : newline + 1;
+    const std::string at = where + ":" + std::to_string(line_number);
+    if (!header_seen) {
+      if (line != FrameResultsCsvHeader()) throw Error(at + ": not a frame-results CSV (unexpected header)");
+      header_seen = true;
+      continue;
+    }
+    if (line.empty()) continue;
+    const std::vector<std::string> fields = SplitCsvLine(line);
+    if (fields.size() != kColumns) {
+      throw Error(at + ": expected " + std::to_string(kColumns) + " columns, found " + std::to_string(fields.size()));
+    }
+    const auto column = [&](size_t i) { return at + " column " + std::to_string(i + 1); };
+    FrameResult f;
+    f.frame = static_cast<size_t>(ParseInteger(fields[0], column(0)));
+    f.time_s = ParseFiniteDouble(fields[1], column(1));
+    f.region = fields[2];
+    if (f.region != "A" && f.region != "B" && f.region != "C" && f.region != "none") {
+      throw Error(column(2) + ": region '" + f.region + "' is not A, B, C or none");
+    }
+    f.range_m = ParseFiniteDouble(fields[3], column(3));
+    f.status = fields[4];
+    if (f.status.empty()) throw Error(column(4) + ": empty status");
+    SixDof truth, estimate;
+    for (size_t d = 0; d < 6; ++d) {
+      truth[d] = ParseFiniteDouble(fields[5 + d], column(5 + d));
+      const bool empty = fields[11 + d].empty() && fields[17 + d].empty();
+      if (f.ok() || !empty) {
+        f.has_estimate = true;
+        estimate[d] = ParseFiniteDouble(fields[11 + d], column(11 + d));
+        f.error[d] = ParseFiniteDouble(fields[17 + d], column(17 + d));
+      }
+    }
+    f.truth = PoseFromValues(truth);
+    f.estimate = PoseFromValues(estimate);
+    f.sensed_points = static_cast<size_t>(ParseInteger(fields[23], column(23)));
+    f.icp_iterations = static_cast<int>(ParseInteger(fields[24], column(24)));
+    if (fields[25] != "0" && fields[25] != "1") throw Error(column(25) + ": icp_converged must be 0 or 1");
+    f.icp_converged = fields[25] == "1";
+    f.icp_rmse_m = ParseFiniteDouble(fields[26], column(26));
+    f.icp_inliers = static_cast<size_t>(ParseInteger(fields[27], column(27)));
+    StereoTruthStats& t = f.stereo_truth;
+    t.points = static_cast<size_t>(ParseInteger(fields[28], column(28)));
+    t.off_receiver = static_cast<size_t>(ParseInteger(fields[29], column(29)));
+    t.off_surface = static_cast<size_t>(ParseInteger(fields[30], column(30)));
+    t.error_sum_px = ParseFiniteDouble(fields[31], column(31));
+    t.error_squared_sum_px2 = ParseFiniteDouble(fields[32], column(32));
+    {
+      std::istringstream bins(fields[33]);
+      std::string item;
+      size_t b = 0;
+      for (; b < kFractionBins && bins >> item; ++b) {
+        const size_t slash = item.find('/');
+        if (slash == std::string::npos) throw Error(column(33) + ": expected count/sum pairs");
+        t.bin_count[b] = static_cast<size_t>(ParseInteger(item.substr(0, slash), column(33)));
+        t.bin_error_sum_px[b] = ParseFiniteDouble(item.substr(slash + 1), column(33));
+        t.on_receiver += t.bin_count[b];
+      }
+      if (b != kFractionBins || bins >> item) throw Error(column(33) + ": expected 8 count/sum pairs");
+    }
+    size_t c = 34;
+    for (double* t : TimeFields(f.times)) {
+      *t = ParseFiniteDouble(fields[c], column(c));
+      ++c;
+    }
+    results.push_back(std::move(f));
+  }
+  if (!header_seen) throw Error(where + ": empty file (no header)");
+  return results;
+}
+
+void WriteFrameResults(const std::filesystem::path& path, const std::vector<FrameResult>& results) {
+  WriteFileAtomic(path, FormatFrameResults(results));
+}
+
+std::vector<FrameResult> ReadFrameResults(const std::filesystem::path& path) {
+  return ParseFrameResults(ReadFileBytes(path), path.string());
+}
+
+std::vector<FrameResult> MergeFrameResults(const std::vector<std::vector<FrameResult>>& shards,
+                                           const std::vector<std::string>& shard_names) {
+  const auto name = [&](size_t shard) {
+    return shard < shard_names.size() ? shard_names[shard] : "shard " + std::to_string(shard);
+  };
+  std::map<size_t, size_t> shard_of_frame;       // frame index -> shard
+  std::vector<std::pair<size_t, size_t>> order;  // (shard, position)
+  for (size_t s = 0; s < shards.size(); ++s) {
+    for (size_t i = 0; i < shards[s].size(); ++i) {
+      const auto [it, inserted] = shard_of_frame.emplace(shards[s][i].frame, s);
+      if (!inserted) {
+        throw Error("merge: frame " + std::to_string(shards[s][i].frame) + " appears in both " + name(it->second) +
+                    " and " + name(s));
+      }
+      order.emplace_back(s, i);
+    }
+  }
+  std::sort(order.begin(), order.end(), [&](const auto& a, const auto& b) {
+    return shards[a.first][a.second].frame < shards[b.first][b.second].frame;
+  });
+  std::vector<FrameResult> merged;
+  merged.reserve(order.size());
+  for (const auto& [s, i] : order) merged.push_back(shards[s][i]);
+  return merged;
+}
+
+}  // namespace aar
