@@ -8,23 +8,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "aar/analyzer/disparity.h"
 #include "aar/error.h"
 #include "aar/text.h"
 
 namespace aar {
 namespace {
-
-cv::Mat ToGray(const cv::Mat& image, const std::string& name) {
-  if (image.empty()) throw Error(name + ": empty image");
-  if (image.depth() != CV_8U) throw Error(name + ": expected an 8-bit image");
-  cv::Mat gray;
-  switch (image.channels()) {
-    case 1: return image;
-    case 3: cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY); return gray;
-    case 4: cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY); return gray;
-    default: throw Error(name + ": expected 1, 3 or 4 channels");
-  }
-}
 
 std::string BoardName(const BoardSpec& board) {
   return std::to_string(board.inner_corners_x) + "x" + std::to_string(board.inner_corners_y);
@@ -139,7 +128,7 @@ void CalibrationOptions::Check() const {
 }
 
 std::optional<std::vector<cv::Point2f>> DetectBoardCorners(const cv::Mat& image, const CalibrationOptions& options) {
-  const cv::Mat gray = ToGray(image, "board image");
+  const cv::Mat gray = ToGrayscale(image, "board image");
   int flags = 0;
   if (options.adaptive_threshold) flags |= cv::CALIB_CB_ADAPTIVE_THRESH;
   if (options.normalize_image) flags |= cv::CALIB_CB_NORMALIZE_IMAGE;
@@ -160,12 +149,12 @@ PairDetection DetectBoardPair(const StereoImagePair& pair, const CalibrationOpti
   d.left_name = pair.left_name;
   d.right_name = pair.right_name;
   const std::string missing = ": found no " + BoardName(options.board) + " chessboard";
-  auto left = DetectBoardCorners(ToGray(pair.left, pair.left_name), options);
+  auto left = DetectBoardCorners(ToGrayscale(pair.left, pair.left_name), options);
   if (!left) {
     d.reason = pair.left_name + missing;
     return d;
   }
-  auto right = DetectBoardCorners(ToGray(pair.right, pair.right_name), options);
+  auto right = DetectBoardCorners(ToGrayscale(pair.right, pair.right_name), options);
   if (!right) {
     d.reason = pair.right_name + missing;
     return d;

@@ -51,14 +51,15 @@ void DisparityOptions::Check() const {
   if (sgbm_p1 < 0 || sgbm_p2 <= sgbm_p1) fail("SGBM needs 0 <= p1 < p2");
 }
 
-cv::Mat ToGrayscale(const cv::Mat& image) {
-  if (image.empty() || image.depth() != CV_8U) throw Error("expected a non-empty 8-bit image");
+cv::Mat ToGrayscale(const cv::Mat& image, const std::string& name) {
+  if (image.empty()) throw Error(name + ": empty image");
+  if (image.depth() != CV_8U) throw Error(name + ": expected an 8-bit image");
   cv::Mat gray;
   switch (image.channels()) {
     case 1: return image;
     case 3: cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY); return gray;
     case 4: cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY); return gray;
-    default: throw Error("expected 1, 3 or 4 channels");
+    default: throw Error(name + ": expected 1, 3 or 4 channels");
   }
 }
 

@@ -3,6 +3,8 @@
 // semi-global matching) on the rectified left/right images, then OpenCV's
 // speckle filter.
 
+#include <string>
+
 #include <opencv2/core.hpp>
 
 #include "aar/stereo_calibration.h"
@@ -72,7 +74,8 @@ class Rectifier {
 };
 
 /// Converts an 8-bit gray, BGR or BGRA image to gray with cv::cvtColor.
-cv::Mat ToGrayscale(const cv::Mat& image);
+/// Errors name the image as `name`.
+cv::Mat ToGrayscale(const cv::Mat& image, const std::string& name = "image");
 
 struct DisparityMap {
   cv::Mat disparity16;   ///< CV_16S, disparity * 16 in rect_left pixels; InvalidValue16() where none
