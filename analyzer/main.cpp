@@ -2,16 +2,15 @@
 // 3.3-3.7). A table of subcommands, each parsing its flags, validating and
 // calling aar_analyzer, where the work lives.
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
-#include <opencv2/core.hpp>
 
 #include "aar/analyzer/analysis_run.h"
 #include "aar/analyzer/mesh.h"
@@ -34,8 +33,9 @@ struct ReferenceFlags {
   size_t points = aar::ReferenceModelOptions{}.num_points;
 
   void Add(CLI::App* cmd) {
-    cmd->add_option("--shell", shell, "shelling rule: strict (both cameras, own pixel, 1 cm, >= 15 deg from grazing) "
-                                      "or loose (the first version's: either camera, 3x3 window, 5 cm)")
+    cmd->add_option("--shell", shell,
+                    "shelling rule: strict (both cameras, own pixel, 1 cm, >= 15 deg from grazing) "
+                    "or loose (the first version's: either camera, 3x3 window, 5 cm)")
         ->capture_default_str();
     cmd->add_option("--shell-cameras", cameras, "cameras that must see a shell point: left, either or both");
     cmd->add_option("--shell-tolerance", tolerance_m, "shell depth-test tolerance [m]");
@@ -73,8 +73,9 @@ struct RunFlags {
   void Add(CLI::App* cmd) {
     aar::AnalysisRunOptions& o = options;
     cmd->add_option("dataset", o.dataset, "dataset folder")->required();
-    cmd->add_option("--preset", preset, "pipeline: default (halo removal, BM rounding correction, "
-                                        "robust noise-weighted point-to-plane ICP) or thesis (Parsons 2017)")
+    cmd->add_option("--preset", preset,
+                    "pipeline: default (halo removal, BM rounding correction, "
+                    "robust noise-weighted point-to-plane ICP) or thesis (Parsons 2017)")
         ->capture_default_str();
     cmd->add_option("--model", o.reference.model, "reference model: full or shelled")->capture_default_str();
     reference.Add(cmd);
@@ -83,14 +84,16 @@ struct RunFlags {
     cmd->add_option("--receiver", receiver, "receiver glTF (default: DATASET/receiver.glb)");
     cmd->add_option("--frames", frames, "half-open range a:b of frame indices");
     cmd->add_option("--shard", shard, "analyze frames i with i % N == K (K/N); defaults to the Slurm array variables");
-    cmd->add_option("--seed", seed, "ICP seed: centroid (thesis) or previous (the last estimates at constant velocity)");
+    cmd->add_option("--seed", seed,
+                    "ICP seed: centroid (thesis) or previous (the last estimates at constant velocity)");
     cmd->add_option("--registration", registration, "point_to_plane (default preset) or point_to_point (thesis)");
     cmd->add_option("--correspondence", correspondence,
                     "point-to-point pairing: model_to_sensed (thesis) or sensed_to_model");
     cmd->add_option("--pairing", pairing, "point-to-plane pairing: symmetric (default) or sensed_to_model");
     cmd->add_option("--balance", balance, "symmetric pairing: weigh both directions equally in total (default: false)");
-    cmd->add_option("--gate-sigmas", gate_sigmas,
-                    "point-to-plane: pairs beyond this many along-ray sigmas (or --max-correspondence) are ignored (3)");
+    cmd->add_option(
+        "--gate-sigmas", gate_sigmas,
+        "point-to-plane: pairs beyond this many along-ray sigmas (or --max-correspondence) are ignored (3)");
     cmd->add_option("--model-queries", model_queries,
                     "symmetric pairing: model points that query the cloud per iteration, at most (4000; 0 = all)");
     cmd->add_option("--icp-iterations", icp_iterations, "ICP iterations at most (thesis 30, default 60)");
@@ -115,7 +118,8 @@ struct RunFlags {
                   "match only where the receiver is predicted from the last two frames (whole image when lost)");
     cmd->add_flag("--truth-cloud", truth_cloud,
                   "diagnosis: register the ideal cloud (depth truth at the sensed pixels; datasets with --depth)");
-    cmd->add_flag("--no-progress", [this](int64_t) { options.progress = false; }, "quiet stderr");
+    cmd->add_flag(
+        "--no-progress", [this](int64_t) { options.progress = false; }, "quiet stderr");
   }
 
   void Resolve() {
@@ -141,7 +145,8 @@ struct RunFlags {
     if (correspondence) f.icp.correspondence = aar::ParseIcpCorrespondence(*correspondence);
     if (pairing) f.plane_icp.pairing = aar::ParsePlanePairing(*pairing);
     if (icp_iterations) f.icp.max_iterations = f.plane_icp.max_iterations = *icp_iterations;
-    if (max_correspondence_m) f.icp.max_correspondence_distance_m = f.plane_icp.max_correspondence_distance_m = *max_correspondence_m;
+    if (max_correspondence_m)
+      f.icp.max_correspondence_distance_m = f.plane_icp.max_correspondence_distance_m = *max_correspondence_m;
     if (num_disparities) f.disparity.num_disparities = *num_disparities;
     if (block_size) {
       f.disparity.block_size = *block_size;
@@ -184,14 +189,15 @@ void PrintStageMedians(const std::vector<aar::FrameResult>& frames) {
     icp.push_back(f.times.icp_ms);
     total.push_back(f.times.total_ms);
   }
-  std::printf("| frames | load ms | rectify ms | disparity ms | reproject ms | ICP ms | total ms | total - load ms |\n");
+  std::printf(
+      "| frames | load ms | rectify ms | disparity ms | reproject ms | ICP ms | total ms | total - load ms |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
   std::vector<double> compute;
   for (const aar::FrameResult& f : frames) {
     if (f.ok()) compute.push_back(f.times.total_ms - f.times.load_ms);
   }
-  std::printf("| %zu | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f |\n", total.size(), Median(load),
-              Median(rectify), Median(disparity), Median(reproject), Median(icp), Median(total), Median(compute));
+  std::printf("| %zu | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f |\n", total.size(), Median(load), Median(rectify),
+              Median(disparity), Median(reproject), Median(icp), Median(total), Median(compute));
 }
 
 // Parses `app` from argv (argv[0] = the subcommand); returns the exit code
@@ -211,8 +217,9 @@ int RunCalibrate(int argc, char** argv) {
   aar::CalibrationOptions options;
   app.add_option("dataset", dataset, "dataset folder")->required();
   app.add_option("--out", out, "output folder (default: results/<dataset>-calibration)");
-  app.add_flag("--estimate-distortion", [&](int64_t) { options.fix_distortion = false; },
-               "also estimate k1 k2 p1 p2 k3 (the renderer has none)");
+  app.add_flag(
+      "--estimate-distortion", [&](int64_t) { options.fix_distortion = false; },
+      "also estimate k1 k2 p1 p2 k3 (the renderer has none)");
   if (const auto code = Parse(app, argc, argv)) return *code;
   if (out.empty()) out = std::filesystem::path("results") / (DatasetName(dataset) + "-calibration");
   const aar::CalibrateOutput result = aar::CalibrateDataset(dataset, options);

@@ -31,8 +31,9 @@ std::vector<Eigen::Vector2d> GridFractions(const CharacterizationOptions& o) {
 /// Returned in the left camera frame.
 Eigen::Vector3d BoxCentredPoint(const StereoRig& rig, const ReceiverBox& box, double range_m) {
   const Eigen::Isometry3d left_from_tanker = rig.left.tanker_from_camera.inverse();
-  const Eigen::Vector3d midpoint = left_from_tanker * (0.5 * (rig.left.tanker_from_camera.translation() +
-                                                              rig.right.tanker_from_camera.translation()));
+  const Eigen::Vector3d midpoint =
+      left_from_tanker *
+      (0.5 * (rig.left.tanker_from_camera.translation() + rig.right.tanker_from_camera.translation()));
   const Eigen::Vector3d centre_offset = left_from_tanker.linear() * box.Centre();
   const Eigen::Vector3d w = midpoint - centre_offset;
   const double disc = w.z() * w.z() - w.squaredNorm() + range_m * range_m;
@@ -72,7 +73,9 @@ void CharacterizationOptions::Check() const {
 }
 
 double MinimumFitRange(const StereoRig& rig, const ReceiverBox& box, double margin_px) {
-  auto fits = [&](double r) { return BoxFits(rig, box, PoseFromLeftPoint(rig, BoxCentredPoint(rig, box, r)), margin_px); };
+  auto fits = [&](double r) {
+    return BoxFits(rig, box, PoseFromLeftPoint(rig, BoxCentredPoint(rig, box, r)), margin_px);
+  };
   double lo = 1.0;
   double hi = 1000.0;
   if (!fits(hi)) return std::numeric_limits<double>::infinity();
@@ -90,7 +93,7 @@ std::vector<FlightSample> GenerateCharacterization(const StereoRig& rig, const C
   const size_t per_shell = grid.size();
 
   const Intrinsics& k = rig.left.intrinsics;
-  const double half_x = 0.5 * k.width_px / k.fx_px;   // half field of view, normalized image units
+  const double half_x = 0.5 * k.width_px / k.fx_px;  // half field of view, normalized image units
   const double half_y = 0.5 * k.height_px / k.fy_px;
 
   std::vector<FlightSample> samples(o.count);
@@ -103,13 +106,15 @@ std::vector<FlightSample> GenerateCharacterization(const StereoRig& rig, const C
       const Eigen::Vector2d origin(centred.x() / centred.z(), centred.y() / centred.z());
       const Eigen::Vector2d cell = grid[g];
       const double ring = std::max(std::abs(cell.x()), std::abs(cell.y()));  // 0 centre .. 1 grid border
-      Eigen::Vector2d edge = Eigen::Vector2d::Zero();                       // grid border point on this ray
+      Eigen::Vector2d edge = Eigen::Vector2d::Zero();                        // grid border point on this ray
       if (ring > 0.0) edge = Eigen::Vector2d(cell.x() / ring * half_x, cell.y() / ring * half_y);
       auto point_at = [&](double lambda) {
         const Eigen::Vector2d ab = origin + lambda * edge;
         return Eigen::Vector3d(r * Eigen::Vector3d(ab.x(), ab.y(), 1.0).normalized());
       };
-      auto fits = [&](double lambda) { return BoxFits(rig, box, PoseFromLeftPoint(rig, point_at(lambda)), o.edge_margin_px); };
+      auto fits = [&](double lambda) {
+        return BoxFits(rig, box, PoseFromLeftPoint(rig, point_at(lambda)), o.edge_margin_px);
+      };
       // Largest lambda along the ray for which the box still fits; the grid
       // point goes to `ring` of it, so the points stay evenly spaced.
       double lambda_edge = o.partial_view_spread;

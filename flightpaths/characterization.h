@@ -20,14 +20,14 @@ namespace aar::flightpaths {
 /// 31 grid points of a shell take the shell's 31 ranges in a fixed scrambled
 /// order (point k gets slot (k * range_scramble) mod 31).
 struct CharacterizationOptions {
-  size_t count = 558;           ///< number of samples (thesis: 558)
-  double min_range_m = 10.0;    ///< [m]
-  double max_range_m = 110.0;   ///< [m]
-  size_t range_shells = 18;     ///< range strata
-  int grid_columns = 7;         ///< image-plane grid across the image
-  int grid_rows = 5;            ///< image-plane grid down the image
+  size_t count = 558;             ///< number of samples (thesis: 558)
+  double min_range_m = 10.0;      ///< [m]
+  double max_range_m = 110.0;     ///< [m]
+  size_t range_shells = 18;       ///< range strata
+  int grid_columns = 7;           ///< image-plane grid across the image
+  int grid_rows = 5;              ///< image-plane grid down the image
   bool drop_grid_corners = true;  ///< leave out the grid's 4 corner points
-  size_t range_scramble = 19;   ///< multiplier for the range slot order; coprime to the grid size
+  size_t range_scramble = 19;     ///< multiplier for the range slot order; coprime to the grid size
   /// Smallest distance of a box corner to an image border when the box fits [px]
   /// (keeps the fit after the CSV's 0.1 mm rounding).
   double edge_margin_px = 2.0;

@@ -29,7 +29,8 @@ double SumOfSinusoids(const std::vector<Sinusoid>& terms, double t) {
 void CheckSinusoids(const std::vector<Sinusoid>& terms, const char* name) {
   for (const Sinusoid& term : terms) {
     if (!std::isfinite(term.amplitude) || !std::isfinite(term.phase_rad) || !(term.period_s > 0.0)) {
-      throw Error(std::string("conops options: ") + name + ": sinusoid needs a finite amplitude and phase and a positive period");
+      throw Error(std::string("conops options: ") + name +
+                  ": sinusoid needs a finite amplitude and phase and a positive period");
     }
   }
 }
@@ -72,7 +73,8 @@ std::vector<Segment> BuildSegments(const ConopsOptions& o, double contact_range_
     const std::string where = "conops options: leg " + std::to_string(i + 1);
     const bool last = i + 1 == o.legs.size();
     const double end = leg.end_range_m <= 0.0 ? final_range_m : leg.end_range_m;
-    if (last != (leg.end_range_m <= 0.0)) throw Error(where + ": only the last leg (and it) must end at the contact position");
+    if (last != (leg.end_range_m <= 0.0))
+      throw Error(where + ": only the last leg (and it) must end at the contact position");
     if (!(end < r)) throw Error(where + ": end range must be below the previous one");
     if (!(end >= final_range_m)) throw Error(where + ": end range is inside the final (contact) range");
     if (!(leg.end_speed_mps >= 0.0) || !(leg.hold_s >= 0.0)) throw Error(where + ": negative speed or hold");
@@ -87,7 +89,8 @@ std::vector<Segment> BuildSegments(const ConopsOptions& o, double contact_range_
     if (seg.v0 + seg.v1 > 0.0) {
       seg.duration = 2.0 * (r - end) / (seg.v0 + seg.v1);
     } else {
-      if (!(leg.rest_to_rest_mean_speed_mps > 0.0)) throw Error(where + ": rest_to_rest_mean_speed_mps must be positive");
+      if (!(leg.rest_to_rest_mean_speed_mps > 0.0))
+        throw Error(where + ": rest_to_rest_mean_speed_mps must be positive");
       seg.duration = (r - end) / leg.rest_to_rest_mean_speed_mps;
     }
     segments.push_back(seg);
@@ -123,7 +126,8 @@ void ConopsOptions::Check() const {
   CheckSinusoids(wander_x, "wander_x");
   CheckSinusoids(wander_y, "wander_y");
   CheckSinusoids(wander_z, "wander_z");
-  if (!(lateral_zero_range_m < start_range_m)) throw Error("conops options: lateral_zero_range_m must be below start_range_m");
+  if (!(lateral_zero_range_m < start_range_m))
+    throw Error("conops options: lateral_zero_range_m must be below start_range_m");
   if (!(contact_standoff_m >= 0.0)) throw Error("conops options: contact_standoff_m must be >= 0");
   if (!(time_step_s > 0.0)) throw Error("conops options: time_step_s must be positive");
   if (legs.empty()) throw Error("conops options: no legs");
@@ -150,8 +154,8 @@ std::vector<FlightSample> GenerateConops(const StereoRig& rig, const ConopsOptio
     const double t = static_cast<double>(i) * o.time_step_s;
     const double r = NominalRange(segments, t);
     const double depression_deg =
-        contact_depression_deg +
-        (o.far_depression_deg - contact_depression_deg) * SmoothStep((r - contact_range) / (o.start_range_m - contact_range));
+        contact_depression_deg + (o.far_depression_deg - contact_depression_deg) *
+                                     SmoothStep((r - contact_range) / (o.start_range_m - contact_range));
     const double lateral_m =
         o.far_lateral_offset_m * SmoothStep((r - o.lateral_zero_range_m) / (o.start_range_m - o.lateral_zero_range_m));
     const double dy = to_contact.y() + lateral_m;

@@ -35,9 +35,9 @@ struct ApproachLeg {
 /// samples: region A 118, B 231, C 260, with holds at 49 m (40 s), 34 m (40 s)
 /// and the contact position, 32.0 m (60 s).
 struct ConopsOptions {
-  double time_step_s = 0.5;        ///< uniform sample spacing [s]
-  double start_range_m = 174.9;    ///< first sample; just inside region A (<= 175 m) despite the wander [m]
-  double start_speed_mps = 2.5;    ///< closure speed at the start [m/s]
+  double time_step_s = 0.5;      ///< uniform sample spacing [s]
+  double start_range_m = 174.9;  ///< first sample; just inside region A (<= 175 m) despite the wander [m]
+  double start_speed_mps = 2.5;  ///< closure speed at the start [m/s]
   /// The last leg ends this far beyond the contact position's range, on the
   /// same line of sight, so that the wander (about +-8 mm in range) keeps every
   /// sample of the final hold inside region C, whose lower bound (32 m) is the
@@ -46,15 +46,15 @@ struct ConopsOptions {
   /// Waypoints after the start; the last leg must end at the contact position
   /// (end_range_m <= 0) at rest.
   std::vector<ApproachLeg> legs = {
-      {120.0, 2.0},                // region A: a few m/s, slowing
+      {120.0, 2.0},  // region A: a few m/s, slowing
       {90.0, 1.4},
       {70.0, 1.0},
-      {55.0, 0.6},                 // region B
-      {49.0, 0.0, 0.2, 40.0},      // hold near 49 m
+      {55.0, 0.6},             // region B
+      {49.0, 0.0, 0.2, 40.0},  // hold near 49 m
       {42.0, 0.5},
-      {38.0, 0.4},                 // enter region C at 0.4 m/s
-      {34.0, 0.0, 0.2, 40.0},      // hold near 34 m
-      {0.0, 0.0, 0.2, 60.0},       // to the contact position (~32 m, peak 0.375 m/s) and hold
+      {38.0, 0.4},             // enter region C at 0.4 m/s
+      {34.0, 0.0, 0.2, 40.0},  // hold near 34 m
+      {0.0, 0.0, 0.2, 60.0},   // to the contact position (~32 m, peak 0.375 m/s) and hold
   };
   /// Depression of the receiver reference point below the horizontal through
   /// the left camera, in the vertical plane, at start_range_m [deg]. At the

@@ -12,11 +12,11 @@ namespace aar::flightpaths {
 
 /// A hold: a run of consecutive samples in which the receiver is near-stationary.
 struct Hold {
-  size_t first = 0;            ///< index of the first sample
-  size_t count = 0;            ///< number of samples
-  double mean_range_m = 0.0;   ///< [m]
-  double range_spread_m = 0.0; ///< max - min range over the hold [m]
-  double duration_s = 0.0;     ///< time from first to last sample [s]
+  size_t first = 0;             ///< index of the first sample
+  size_t count = 0;             ///< number of samples
+  double mean_range_m = 0.0;    ///< [m]
+  double range_spread_m = 0.0;  ///< max - min range over the hold [m]
+  double duration_s = 0.0;      ///< time from first to last sample [s]
 };
 
 /// Maximal runs of consecutive samples in which every step changes the range

@@ -4,12 +4,11 @@
 //
 //   aar-make-flightpaths --rig scenes/rig.json --out flightpaths/
 
+#include <CLI/CLI.hpp>
 #include <exception>
 #include <filesystem>
 #include <iostream>
 #include <string>
-
-#include <CLI/CLI.hpp>
 
 #include "aar/error.h"
 #include "aar/file_io.h"

@@ -44,8 +44,8 @@ struct Tally {
     std::ostringstream out;
     out << "  " << name << ": " << samples << " samples";
     if (samples == 0) return out.str() + "\n";
-    out << " (range " << Fixed(min_range_m, 1) << "-" << Fixed(max_range_m, 1) << " m), box not fully inside both images: "
-        << not_fully_in_both;
+    out << " (range " << Fixed(min_range_m, 1) << "-" << Fixed(max_range_m, 1)
+        << " m), box not fully inside both images: " << not_fully_in_both;
     if (not_fully_in_both > 0) {
       out << " (at " << Fixed(partial_min_range_m, 1) << "-" << Fixed(partial_max_range_m, 1) << " m)";
     }
@@ -63,9 +63,9 @@ std::string DescribeConops(const StereoRig& rig, const std::vector<FlightSample>
   const double first_range = RangeFromLeftCamera(rig, samples.front().tanker_from_receiver);
   const double last_range = RangeFromLeftCamera(rig, samples.back().tanker_from_receiver);
   const double dt = samples.size() > 1 ? samples[1].time_s - samples[0].time_s : 0.0;
-  out << "conops: " << samples.size() << " samples, time step " << Fixed(dt, 3) << " s, " << Fixed(samples.front().time_s, 1)
-      << "-" << Fixed(samples.back().time_s, 1) << " s, range " << Fixed(first_range, 2) << " -> " << Fixed(last_range, 2)
-      << " m\n";
+  out << "conops: " << samples.size() << " samples, time step " << Fixed(dt, 3) << " s, "
+      << Fixed(samples.front().time_s, 1) << "-" << Fixed(samples.back().time_s, 1) << " s, range "
+      << Fixed(first_range, 2) << " -> " << Fixed(last_range, 2) << " m\n";
   std::map<std::string, Tally> tallies;
   std::map<std::string, double> max_speed;
   double max_attitude = 0.0;
@@ -89,9 +89,9 @@ std::string DescribeConops(const StereoRig& rig, const std::vector<FlightSample>
   }
   out << "  largest |roll|, |pitch|, |yaw|: " << Fixed(max_attitude, 2) << " deg\n";
   for (const Hold& hold : FindHolds(rig, samples)) {
-    out << "  hold near " << Fixed(hold.mean_range_m, 2) << " m: " << hold.count << " samples, " << Fixed(hold.duration_s, 1)
-        << " s (t = " << Fixed(samples[hold.first].time_s, 1) << " s), range spread " << Fixed(hold.range_spread_m * 1000.0, 1)
-        << " mm\n";
+    out << "  hold near " << Fixed(hold.mean_range_m, 2) << " m: " << hold.count << " samples, "
+        << Fixed(hold.duration_s, 1) << " s (t = " << Fixed(samples[hold.first].time_s, 1) << " s), range spread "
+        << Fixed(hold.range_spread_m * 1000.0, 1) << " mm\n";
   }
   return out.str();
 }

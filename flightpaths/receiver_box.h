@@ -4,9 +4,8 @@
 // left camera. Ranges are measured from the left camera centre to the
 // receiver reference point (docs/frames.md); positions are in the tanker frame.
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "aar/pose.h"
 #include "aar/rig.h"
@@ -28,10 +27,10 @@ struct ReceiverBox {
 
 /// How the box projects for one pose.
 struct BoxVisibility {
-  int corners_in_left = 0;                  ///< corners projecting inside the left image (of 8)
-  int corners_in_right = 0;                 ///< same for the right image
-  double min_margin_px = 0.0;               ///< smallest distance of a corner to an image border, both images; negative when outside
-  bool reference_in_both = false;           ///< the reference point projects inside both images
+  int corners_in_left = 0;     ///< corners projecting inside the left image (of 8)
+  int corners_in_right = 0;    ///< same for the right image
+  double min_margin_px = 0.0;  ///< smallest distance of a corner to an image border, both images; negative when outside
+  bool reference_in_both = false;  ///< the reference point projects inside both images
   bool FullyInBoth() const { return corners_in_left == 8 && corners_in_right == 8; }
 };
 

@@ -3,6 +3,9 @@
 // "aar-render foo"): it parses its own flags, validates them and calls
 // aar_renderer, where the work lives.
 
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -10,10 +13,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <unistd.h>
-
-#include <CLI/CLI.hpp>
 
 #include "aar/error.h"
 #include "aar/flight_path.h"
@@ -57,9 +56,7 @@ const Command& CommandNamed(const char* name) {
 }
 
 /// The parser of one subcommand; a repeated flag: the last wins.
-void ConfigureApp(CLI::App& app) {
-  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-}
+void ConfigureApp(CLI::App& app) { app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast); }
 
 /// Flags shared by render, calib and bench; the defaults are RenderJobOptions'.
 struct JobFlags {
@@ -73,7 +70,8 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
   if (calib) {
     cmd.add_option("--board", f.job.board_model, "calibration board glTF")->capture_default_str();
   } else {
-    cmd.add_option("--flight-path", f.job.flight_path, "flight-path CSV (time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg)")
+    cmd.add_option("--flight-path", f.job.flight_path,
+                   "flight-path CSV (time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg)")
         ->capture_default_str();
     cmd.add_option("--receiver", f.job.receiver_model, "receiver glTF")->capture_default_str();
     cmd.add_option("--tanker", f.job.tanker_model, "tanker glTF")->capture_default_str();
@@ -87,7 +85,8 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
   cmd.add_option("--shard", f.shard,
                  "render frames i with i % N == K (K/N); defaults to SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT");
   cmd.add_option("--device", f.job.device, "Vulkan device name substring (default: lavapipe, else the first)");
-  cmd.add_flag("--no-progress", [&f](int64_t) { f.job.progress = false; }, "no progress line on stderr");
+  cmd.add_flag(
+      "--no-progress", [&f](int64_t) { f.job.progress = false; }, "no progress line on stderr");
 }
 
 void Report(const aar::RenderJobResult& r, const std::filesystem::path& out) {
@@ -100,9 +99,10 @@ void Report(const aar::RenderJobResult& r, const std::filesystem::path& out) {
                  r.times.render_ms / pairs, r.times.readback_ms / pairs, r.times.encode_ms / pairs,
                  r.times.write_ms / pairs, 1000.0 * pairs / total);
   }
-  std::fprintf(stderr, "%s\n", r.complete ? "dataset complete: manifest.json lists every file with its SHA-256"
-                                          : "dataset incomplete: other frames are still missing (run the other "
-                                            "shards, then `aar-render finalize`)");
+  std::fprintf(stderr, "%s\n",
+               r.complete ? "dataset complete: manifest.json lists every file with its SHA-256"
+                          : "dataset incomplete: other frames are still missing (run the other "
+                            "shards, then `aar-render finalize`)");
 }
 
 // render and calib: one dataset folder, the shared flags, one job.
@@ -111,13 +111,14 @@ int RunJob(int argc, char** argv, bool calib) {
   CLI::App app{command.description};
   ConfigureApp(app);
   JobFlags flags;
-  app.add_option("output", flags.job.output, calib ? "dataset folder (created if needed)"
-                                                   : "dataset folder (created; re-running resumes)")
+  app.add_option("output", flags.job.output,
+                 calib ? "dataset folder (created if needed)" : "dataset folder (created; re-running resumes)")
       ->required();
   AddJobFlags(app, flags, calib);
   CLI11_PARSE(app, argc, argv);
   flags.job.selection = aar::ParseFrameSelection(flags.frames, flags.shard);
-  const aar::RenderJobResult result = calib ? aar::RenderCalibrationJob(flags.job) : aar::RenderFlightPathJob(flags.job);
+  const aar::RenderJobResult result =
+      calib ? aar::RenderCalibrationJob(flags.job) : aar::RenderFlightPathJob(flags.job);
   Report(result, flags.job.output);
   return 0;
 }

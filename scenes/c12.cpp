@@ -1,12 +1,12 @@
 #include "c12.h"
 
+#include <cmath>
+#include <numbers>
+
 #include "c12_airframe.h"
 #include "c12_livery.h"
 #include "png_writer.h"
 #include "texture_synth.h"
-
-#include <cmath>
-#include <numbers>
 
 namespace aar::scenes {
 namespace {
@@ -19,7 +19,7 @@ constexpr double kSemispan = 8.305;  // m, half of the 16.61 m span
 constexpr double kWingQuarterChordStation = 5.45;  // unswept quarter-chord line
 constexpr double kWingRootChord = 2.30;            // at the centre line
 constexpr double kWingTipChord = 1.05;
-constexpr double kWingRootZ = -0.50;               // chord plane at the centre line (low wing)
+constexpr double kWingRootZ = -0.50;  // chord plane at the centre line (low wing)
 constexpr double kWingDihedralDeg = 5.0;
 
 constexpr double kNacelleY = 2.60;
@@ -28,7 +28,7 @@ constexpr double kNacelleLength = 4.60;
 
 constexpr double kFinRootStation = 10.0;  // leading edge at the (buried) root section
 constexpr double kFinRootZ = 0.30;
-constexpr double kStabilizerZ = 2.80;     // T-tail: stabilizer chord plane at the fin tip
+constexpr double kStabilizerZ = 2.80;  // T-tail: stabilizer chord plane at the fin tip
 
 // Tessellation (about 54k triangles in all).
 constexpr int kFuselageRings = 120, kFuselageAround = 80;
@@ -55,18 +55,17 @@ MeanAerodynamicChord ComputeMeanAerodynamicChord(double root_le_station, double 
 BodyTables FuselageTables() {
   // Pointed nose rising to a sloped windscreen (2.45-3.1 m), constant cabin
   // section 1.46 m wide x 1.64 m high, tail cone sweeping up to the tip.
-  const std::vector<double> s = {0.00, 0.12, 0.40, 0.85, 1.40, 2.00, 2.45, 2.80, 3.10,
+  const std::vector<double> s = {0.00, 0.12, 0.40, 0.85,  1.40,  2.00,  2.45,  2.80,   3.10,
                                  3.50, 8.90, 9.80, 10.80, 11.80, 12.60, 13.05, kLength};
-  return BodyTables{
-      Profile(s, {-0.30, -0.12, 0.04, 0.18, 0.29, 0.38, 0.44, 0.62, 0.76, 0.82, 0.82, 0.81, 0.77,
-                  0.70, 0.60, 0.50, 0.36}),
-      Profile(s, {-0.30, -0.46, -0.60, -0.70, -0.77, -0.81, -0.82, -0.82, -0.82, -0.82, -0.82,
-                  -0.72, -0.50, -0.22, 0.02, 0.18, 0.36}),
-      Profile(s, {-0.30, -0.30, -0.28, -0.24, -0.19, -0.13, -0.09, -0.06, -0.03, 0.00, 0.00, 0.01,
-                  0.05, 0.12, 0.20, 0.26, 0.36}),
-      Profile(s, {0.00, 0.17, 0.33, 0.47, 0.58, 0.66, 0.70, 0.72, 0.73, 0.73, 0.73, 0.70, 0.60,
-                  0.45, 0.28, 0.15, 0.00}),
-      2.2};
+  return BodyTables{Profile(s, {-0.30, -0.12, 0.04, 0.18, 0.29, 0.38, 0.44, 0.62, 0.76, 0.82, 0.82, 0.81, 0.77, 0.70,
+                                0.60, 0.50, 0.36}),
+                    Profile(s, {-0.30, -0.46, -0.60, -0.70, -0.77, -0.81, -0.82, -0.82, -0.82, -0.82, -0.82, -0.72,
+                                -0.50, -0.22, 0.02, 0.18, 0.36}),
+                    Profile(s, {-0.30, -0.30, -0.28, -0.24, -0.19, -0.13, -0.09, -0.06, -0.03, 0.00, 0.00, 0.01, 0.05,
+                                0.12, 0.20, 0.26, 0.36}),
+                    Profile(s, {0.00, 0.17, 0.33, 0.47, 0.58, 0.66, 0.70, 0.72, 0.73, 0.73, 0.73, 0.70, 0.60, 0.45,
+                                0.28, 0.15, 0.00}),
+                    2.2};
 }
 
 BodyTables NacelleTables() {
@@ -74,12 +73,10 @@ BodyTables NacelleTables() {
   // the gear well, tapering tail above the wing trailing edge. Heights are
   // relative to the propeller axis.
   const std::vector<double> s = {0.00, 0.10, 0.28, 0.45, 0.75, 1.20, 2.00, 2.80, 3.50, 4.10, 4.45, kNacelleLength};
-  return BodyTables{
-      Profile(s, {0.00, 0.10, 0.20, 0.27, 0.34, 0.38, 0.39, 0.36, 0.28, 0.17, 0.10, 0.06}),
-      Profile(s, {0.00, -0.10, -0.20, -0.32, -0.48, -0.56, -0.58, -0.52, -0.38, -0.20, -0.06, 0.06}),
-      Profile(s, {0.00, 0.00, 0.00, -0.02, -0.05, -0.07, -0.08, -0.07, -0.04, 0.00, 0.03, 0.06}),
-      Profile(s, {0.00, 0.10, 0.20, 0.27, 0.33, 0.36, 0.37, 0.35, 0.29, 0.18, 0.08, 0.00}),
-      2.0};
+  return BodyTables{Profile(s, {0.00, 0.10, 0.20, 0.27, 0.34, 0.38, 0.39, 0.36, 0.28, 0.17, 0.10, 0.06}),
+                    Profile(s, {0.00, -0.10, -0.20, -0.32, -0.48, -0.56, -0.58, -0.52, -0.38, -0.20, -0.06, 0.06}),
+                    Profile(s, {0.00, 0.00, 0.00, -0.02, -0.05, -0.07, -0.08, -0.07, -0.04, 0.00, 0.03, 0.06}),
+                    Profile(s, {0.00, 0.10, 0.20, 0.27, 0.33, 0.36, 0.37, 0.35, 0.29, 0.18, 0.08, 0.00}), 2.0};
 }
 
 }  // namespace

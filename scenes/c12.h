@@ -2,9 +2,9 @@
 // procedurally painted texture atlas. See docs/scenes.md.
 #pragma once
 
-#include "glb_writer.h"
-
 #include <cstdint>
+
+#include "glb_writer.h"
 
 namespace aar::scenes {
 

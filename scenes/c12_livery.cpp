@@ -1,6 +1,5 @@
 #include "c12_livery.h"
 
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -13,16 +12,16 @@ constexpr double kPi = std::numbers::pi;
 // Paint colours (display RGB).
 const Color kWhite{0.86, 0.86, 0.84};
 const Color kBellyGrey{0.50, 0.52, 0.54};
-const Color kUnderGrey{0.62, 0.63, 0.64};   // under wing and tailplane
+const Color kUnderGrey{0.62, 0.63, 0.64};  // under wing and tailplane
 const Color kCheatBlue{0.10, 0.17, 0.40};
 const Color kPinstripeRed{0.66, 0.13, 0.10};
 const Color kRadome{0.34, 0.35, 0.36};
 const Color kAntiGlare{0.15, 0.16, 0.14};
 const Color kGlass{0.06, 0.08, 0.11};
 const Color kFrame{0.30, 0.31, 0.32};
-const Color kBoot{0.07, 0.07, 0.07};        // pneumatic de-ice boots
+const Color kBoot{0.07, 0.07, 0.07};  // pneumatic de-ice boots
 const Color kWalkway{0.23, 0.23, 0.22};
-const Color kInk{0.07, 0.07, 0.08};         // markings
+const Color kInk{0.07, 0.07, 0.08};  // markings
 const Color kSpinner{0.56, 0.57, 0.59};
 const Color kIntake{0.05, 0.05, 0.05};
 const Color kExhaust{0.12, 0.11, 0.10};
@@ -41,7 +40,7 @@ constexpr std::array<double, 6> kOctaveWavelength = {0.035, 0.07, 0.14, 0.28, 0.
 constexpr std::array<double, 6> kOctaveAmplitude = {0.045, 0.05, 0.055, 0.06, 0.07, 0.08};
 
 // Fuselage layout (stations in m aft of the nose tip).
-constexpr std::array<double, 12> kFuselageJoints = {0.28, 1.25, 2.45, 3.95, 5.25, 6.55,
+constexpr std::array<double, 12> kFuselageJoints = {0.28, 1.25, 2.45,  3.95,  5.25,  6.55,
                                                     7.85, 9.15, 10.35, 11.45, 12.45, 13.16};
 constexpr double kLapJointPitch = kPi / 6.0;  // longitudinal skin joints every 30 deg
 constexpr double kFrameSpacing = 0.26;
@@ -57,8 +56,7 @@ bool OnRivet(double along, double across, double pitch = kRivetPitch) {
 
 /// Outline of a rounded rectangle centred at (0, 0): true on a band of `width` inside its edge.
 bool OnOutline(double x, double y, double hx, double hy, double r, double width = 2 * kLineHalfWidth) {
-  return InRoundedRect(x, y, hx, hy, r) &&
-         !InRoundedRect(x, y, hx - width, hy - width, std::max(r - width, 0.0));
+  return InRoundedRect(x, y, hx, hy, r) && !InRoundedRect(x, y, hx - width, hy - width, std::max(r - width, 0.0));
 }
 
 }  // namespace
@@ -82,8 +80,7 @@ C12Livery::C12Livery(const C12Airframe& airframe, std::uint64_t seed)
 Color C12Livery::Weather(const Color& paint, const Vec3& p, double strength) const {
   double luminance = 1.0;
   for (std::size_t k = 0; k < octaves_.size(); ++k) {
-    luminance += strength * kOctaveAmplitude[k] *
-                 octaves_[k](octave_rotations_[k] * p / kOctaveWavelength[k]);
+    luminance += strength * kOctaveAmplitude[k] * octaves_[k](octave_rotations_[k] * p / kOctaveWavelength[k]);
   }
   // Streaks along the airflow (long in x, narrow across).
   luminance += strength * 0.05 * streaks_(Vec3(p.x() / 1.5, p.y() / 0.05, p.z() / 0.05));
@@ -101,8 +98,8 @@ double C12Livery::PanelShade(std::int64_t part, std::int64_t i, std::int64_t j) 
   return 1.0 + 0.07 * (Hash01(seed_, part, i, j) - 0.5);
 }
 
-double C12Livery::AccessPanel(std::int64_t part, std::int64_t i, std::int64_t j, double a0, double a1,
-                               double b0, double b1, double a, double b) const {
+double C12Livery::AccessPanel(std::int64_t part, std::int64_t i, std::int64_t j, double a0, double a1, double b0,
+                              double b1, double a, double b) const {
   const std::uint64_t h = Hash64(seed_ + 100, part, i, j);
   if (h % 5 < 2) return 1.0;  // 60 % of the cells carry a panel
   auto u01 = [h](int k) { return static_cast<double>((h >> (8 * k + 8)) & 0xff) / 255.0; };
@@ -136,8 +133,10 @@ Color C12Livery::Fuselage(double u, double v) const {
 
   Color c = zeta < -0.52 ? kBellyGrey : kWhite;
   if (s > 0.5 && s < 12.9) {
-    if (zeta > -0.42 && zeta < -0.20) c = kCheatBlue;
-    else if (zeta > -0.16 && zeta < -0.12) c = kPinstripeRed;
+    if (zeta > -0.42 && zeta < -0.20)
+      c = kCheatBlue;
+    else if (zeta > -0.16 && zeta < -0.12)
+      c = kPinstripeRed;
   }
   if (s < kFuselageJoints.front()) c = kRadome;
   if (s > kFuselageJoints.back()) c = kRadome;  // tail cone cap with the tail light
@@ -148,8 +147,8 @@ Color C12Livery::Fuselage(double u, double v) const {
   if (TextInk("U.S. ARMY", left ? s - kTextStation : kTextStation - s, p.z() - kTextZ, kTextHeight)) c = kInk;
 
   // Skin panels: shade per panel, joints, frames with rivet rows, access panels.
-  const auto bay = static_cast<std::int64_t>(
-      std::upper_bound(kFuselageJoints.begin(), kFuselageJoints.end(), s) - kFuselageJoints.begin());
+  const auto bay = static_cast<std::int64_t>(std::upper_bound(kFuselageJoints.begin(), kFuselageJoints.end(), s) -
+                                             kFuselageJoints.begin());
   const auto strip = static_cast<std::int64_t>(std::floor((phi - 0.5 * kLapJointPitch) / kLapJointPitch));
   double shade = PanelShade(1, bay, strip);
   if (s > kFuselageJoints.front() && s < kFuselageJoints.back()) {
@@ -164,8 +163,7 @@ Color C12Livery::Fuselage(double u, double v) const {
     if (panels_here && bay > 0 && bay < static_cast<std::int64_t>(kFuselageJoints.size())) {
       const double b0 = (0.5 * kLapJointPitch + static_cast<double>(strip) * kLapJointPitch) * radius;
       shade *= AccessPanel(1, bay, strip, kFuselageJoints[static_cast<std::size_t>(bay - 1)],
-                            kFuselageJoints[static_cast<std::size_t>(bay)], b0, b0 + kLapJointPitch * radius, s,
-                            around);
+                           kFuselageJoints[static_cast<std::size_t>(bay)], b0, b0 + kLapJointPitch * radius, s, around);
     }
   }
   // Antennas on the belly and the spine, anti-collision beacons.
@@ -273,8 +271,8 @@ Color C12Livery::Wing(double u, double v) const {
     } else {
       // Inspection hatches in every other rib bay, fuel drains near the rear spar.
       if (rib_bay % 2 == 0) {
-        const double r = std::hypot(a - (kRoot + (static_cast<double>(rib_bay) + 0.5) * kRibPitch),
-                                    (xc - 0.42) * chord);
+        const double r =
+            std::hypot(a - (kRoot + (static_cast<double>(rib_bay) + 0.5) * kRibPitch), (xc - 0.42) * chord);
         if (std::abs(r - 0.085) < 0.006) shade *= kPanelLine;
       }
       if (std::hypot(DistanceToGrid(a, 1.0, 0.3), (xc - 0.66) * chord) < 0.012) c = kInk;
@@ -306,8 +304,8 @@ Color C12Livery::Nacelle(const Body& body, double u, double v) const {
   Color c = zeta > -0.35 ? kWhite : kBellyGrey;
   if (s < 0.42) c = s < 0.12 ? kFrame : kSpinner;
   constexpr std::array<double, 5> kCowlJoints = {0.42, 1.0, 1.75, 2.55, 3.55};
-  const auto bay = static_cast<std::int64_t>(
-      std::upper_bound(kCowlJoints.begin(), kCowlJoints.end(), s) - kCowlJoints.begin());
+  const auto bay =
+      static_cast<std::int64_t>(std::upper_bound(kCowlJoints.begin(), kCowlJoints.end(), s) - kCowlJoints.begin());
   double shade = PanelShade(left_nacelle ? 4 : 5, bay, zeta > 0 ? 1 : 0);
   if (s > kCowlJoints.front()) {
     for (double joint : kCowlJoints) {

@@ -7,11 +7,11 @@
 // every range of interest.
 #pragma once
 
-#include "c12_airframe.h"
-#include "texture_synth.h"
-
 #include <array>
 #include <cstdint>
+
+#include "c12_airframe.h"
+#include "texture_synth.h"
 
 namespace aar::scenes {
 
@@ -34,8 +34,8 @@ class C12Livery {
   double PanelShade(std::int64_t part, std::int64_t i, std::int64_t j) const;
   /// Darkening factor of an outlined access panel possibly placed in the
   /// panel cell [a0, a1] x [b0, b1] (metres on the surface), at (a, b).
-  double AccessPanel(std::int64_t part, std::int64_t i, std::int64_t j, double a0, double a1,
-                      double b0, double b1, double a, double b) const;
+  double AccessPanel(std::int64_t part, std::int64_t i, std::int64_t j, double a0, double a1, double b0, double b1,
+                     double a, double b) const;
 
   const C12Airframe& airframe_;
   std::uint64_t seed_;

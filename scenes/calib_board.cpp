@@ -10,7 +10,8 @@ SceneModel BuildCalibBoard(const BoardSpec& spec) {
   const double a = spec.square_m;
   const int squares_x = spec.inner_corners_x + 1, squares_y = spec.inner_corners_y + 1;
   const int cells_x = squares_x + 2 * spec.border_squares, cells_y = squares_y + 2 * spec.border_squares;
-  const int first = -1 - spec.border_squares;  // index of the first cell; square (0, 0) has its far corner at the origin
+  const int first =
+      -1 - spec.border_squares;  // index of the first cell; square (0, 0) has its far corner at the origin
   auto grid = [&](int k) { return a * k; };
   const double zb = spec.backing_m;
 
@@ -20,8 +21,8 @@ SceneModel BuildCalibBoard(const BoardSpec& spec) {
     for (int kx = 0; kx < cells_x; ++kx) {
       const int ix = first + kx, iy = first + ky;  // cell lower corner in squares
       const double x0 = grid(ix), x1 = grid(ix + 1), y0 = grid(iy), y1 = grid(iy + 1);
-      const bool border = kx < spec.border_squares || ky < spec.border_squares ||
-                          kx >= cells_x - spec.border_squares || ky >= cells_y - spec.border_squares;
+      const bool border = kx < spec.border_squares || ky < spec.border_squares || kx >= cells_x - spec.border_squares ||
+                          ky >= cells_y - spec.border_squares;
       // Square (sx, sy) counted from the top-left square (x < 0, y < 0), which is black.
       const int sx = kx - spec.border_squares, sy = ky - spec.border_squares;
       Mesh& face = (!border && (sx + sy) % 2 == 0) ? black : white;
@@ -47,8 +48,8 @@ SceneModel BuildCalibBoard(const BoardSpec& spec) {
   scene.materials = {Material{"board_black", {0.02, 0.02, 0.02, 1.0}, false},
                      Material{"board_white", {0.9, 0.9, 0.9, 1.0}, false},
                      Material{"board_backing", {0.15, 0.15, 0.15, 1.0}, false}};
-  scene.nodes.push_back(Node{"board", {Primitive{std::move(black), 0}, Primitive{std::move(white), 1},
-                                       Primitive{std::move(backing), 2}}});
+  scene.nodes.push_back(Node{
+      "board", {Primitive{std::move(black), 0}, Primitive{std::move(white), 1}, Primitive{std::move(backing), 2}}});
   return scene;
 }
 

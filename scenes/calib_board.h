@@ -8,11 +8,11 @@
 namespace aar::scenes {
 
 struct BoardSpec {
-  int inner_corners_x = 16;   ///< along board x (OpenCV pattern width)
-  int inner_corners_y = 17;   ///< along board y (OpenCV pattern height)
+  int inner_corners_x = 16;  ///< along board x (OpenCV pattern width)
+  int inner_corners_y = 17;  ///< along board y (OpenCV pattern height)
   double square_m = 0.5;
-  int border_squares = 1;     ///< white border width in squares (0.5 m)
-  double backing_m = 0.02;    ///< backing slab thickness, behind the printed face (+z)
+  int border_squares = 1;   ///< white border width in squares (0.5 m)
+  double backing_m = 0.02;  ///< backing slab thickness, behind the printed face (+z)
 };
 
 /// Board frame = OpenCV object frame: origin at the first inner corner, x

@@ -1,11 +1,11 @@
 #include "geometry.h"
 
 #include <Eigen/Dense>
-
 #include <algorithm>
 #include <cmath>
-#include "aar/error.h"
 #include <utility>
+
+#include "aar/error.h"
 
 namespace aar::scenes {
 
@@ -38,12 +38,11 @@ double Profile::operator()(double x) const {
   const double h = x_[i + 1] - x_[i];
   const double t = (x - x_[i]) / h;
   const double t2 = t * t, t3 = t2 * t;
-  return (2 * t3 - 3 * t2 + 1) * y_[i] + (t3 - 2 * t2 + t) * h * slope_[i] +
-         (-2 * t3 + 3 * t2) * y_[i + 1] + (t3 - t2) * h * slope_[i + 1];
+  return (2 * t3 - 3 * t2 + 1) * y_[i] + (t3 - 2 * t2 + t) * h * slope_[i] + (-2 * t3 + 3 * t2) * y_[i + 1] +
+         (t3 - t2) * h * slope_[i + 1];
 }
 
-void Mesh::AddQuad(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3,
-                    const Vec3& normal) {
+void Mesh::AddQuad(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& normal) {
   const auto base = static_cast<std::uint32_t>(positions.size());
   for (const Vec3* p : {&p0, &p1, &p2, &p3}) {
     positions.push_back(*p);
@@ -126,15 +125,12 @@ double SurfaceArea(const Mesh& mesh) {
   double area = 0.0;
   for (std::size_t k = 0; k < mesh.indices.size(); k += 3) {
     const Vec3& a = mesh.positions[mesh.indices[k]];
-    area += 0.5 * (mesh.positions[mesh.indices[k + 1]] - a)
-                      .cross(mesh.positions[mesh.indices[k + 2]] - a)
-                      .norm();
+    area += 0.5 * (mesh.positions[mesh.indices[k + 1]] - a).cross(mesh.positions[mesh.indices[k + 2]] - a).norm();
   }
   return area;
 }
 
-TexelDensity MeasureTexelDensity(const Mesh& mesh, int atlas_width, int atlas_height,
-                           double threshold_per_m) {
+TexelDensity MeasureTexelDensity(const Mesh& mesh, int atlas_width, int atlas_height, double threshold_per_m) {
   std::vector<std::pair<double, double>> samples;  // (texels per metre, area)
   double total_area = 0.0;
   for (std::size_t k = 0; k < mesh.indices.size(); k += 3) {

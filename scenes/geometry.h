@@ -6,7 +6,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross products
-
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -33,15 +32,14 @@ class Profile {
 /// Indexed triangle mesh in body axes.
 struct Mesh {
   std::vector<Vec3> positions;
-  std::vector<Vec3> normals;            ///< unit, pointing out of the solid
-  std::vector<Vec2> uvs;                ///< empty when untextured; glTF convention, (0,0) = top-left texel corner
-  std::vector<std::uint32_t> indices;   ///< counter-clockwise seen from outside (glTF front faces)
+  std::vector<Vec3> normals;           ///< unit, pointing out of the solid
+  std::vector<Vec2> uvs;               ///< empty when untextured; glTF convention, (0,0) = top-left texel corner
+  std::vector<std::uint32_t> indices;  ///< counter-clockwise seen from outside (glTF front faces)
 
   std::size_t TriangleCount() const { return indices.size() / 3; }
   /// Appends a planar quad p0..p3 (any winding) with a flat `normal`; the
   /// triangles are wound counter-clockwise seen from the side `normal` points to.
-  void AddQuad(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3,
-                const Vec3& normal);
+  void AddQuad(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& normal);
 };
 
 /// A parametric surface patch P(u, v), u and v in [0, 1], body axes.
@@ -87,12 +85,11 @@ double SurfaceArea(const Mesh& mesh);
 /// triangle the smaller singular value of the metres-to-texels map, i.e. the
 /// worst-direction texels per metre.
 struct TexelDensity {
-  double p01_per_m = 0;        ///< area-weighted 1st percentile
-  double median_per_m = 0;     ///< area-weighted median
-  double share_below = 0;      ///< fraction of the surface area below `threshold_per_m`
+  double p01_per_m = 0;     ///< area-weighted 1st percentile
+  double median_per_m = 0;  ///< area-weighted median
+  double share_below = 0;   ///< fraction of the surface area below `threshold_per_m`
 };
-TexelDensity MeasureTexelDensity(const Mesh& mesh, int atlas_width, int atlas_height,
-                           double threshold_per_m);
+TexelDensity MeasureTexelDensity(const Mesh& mesh, int atlas_width, int atlas_height, double threshold_per_m);
 
 /// n + 1 samples 0, 1/n, ..., 1.
 std::vector<double> UniformSamples(int segments);

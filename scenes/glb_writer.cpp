@@ -4,6 +4,7 @@
 
 #include <cstring>
 #include <limits>
+
 #include "aar/error.h"
 
 namespace aar::scenes {
@@ -27,7 +28,7 @@ int AddBufferView(tinygltf::Model& model, const void* data, std::size_t size, in
 }
 
 int AddAccessor(tinygltf::Model& model, int view, int component_type, int type, std::size_t count,
-                 std::vector<double> min = {}, std::vector<double> max = {}) {
+                std::vector<double> min = {}, std::vector<double> max = {}) {
   tinygltf::Accessor accessor;
   accessor.bufferView = view;
   accessor.componentType = component_type;

@@ -2,13 +2,13 @@
 // (binary glTF 2.0 through tinygltf; geometry converted from body to glTF axes).
 #pragma once
 
-#include "geometry.h"
-
 #include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "geometry.h"
 
 namespace aar::scenes {
 
@@ -16,7 +16,7 @@ namespace aar::scenes {
 struct Material {
   std::string name;
   std::array<double, 4> base_color{1.0, 1.0, 1.0, 1.0};  ///< baseColorFactor
-  bool textured = false;  ///< uses the scene's texture as baseColorTexture
+  bool textured = false;                                 ///< uses the scene's texture as baseColorTexture
 };
 
 struct Primitive {

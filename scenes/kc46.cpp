@@ -1,12 +1,12 @@
 #include "kc46.h"
 
-#include "shapes.h"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include "aar/error.h"
 #include <string>
+
+#include "aar/error.h"
+#include "shapes.h"
 
 namespace aar::scenes {
 namespace {
@@ -18,9 +18,9 @@ constexpr double kHalfLength = 0.5 * kLength;
 // Stereo rig of scenes/rig.json: camera centres, optical axis aft and 30 deg
 // down, 1024 x 768 px at fx = fy = 900 px.
 const std::array<Vec3, 2> kCameraCentres = {Vec3(-20.0, -0.25, -2.9), Vec3(-20.0, 0.25, -2.9)};
-const Vec3 kCameraX(0.0, 1.0, 0.0);                     // image right
-const Vec3 kCameraY(0.5, 0.0, -0.8660254037844386);     // image down
-const Vec3 kCameraZ(-0.8660254037844386, 0.0, -0.5);    // optical axis
+const Vec3 kCameraX(0.0, 1.0, 0.0);                         // image right
+const Vec3 kCameraY(0.5, 0.0, -0.8660254037844386);         // image down
+const Vec3 kCameraZ(-0.8660254037844386, 0.0, -0.5);        // optical axis
 constexpr double kTanHalfFovX = 0.5 * 1024 / 900.0 + 0.01;  // with a small margin
 constexpr double kTanHalfFovY = 0.5 * 768 / 900.0 + 0.01;
 constexpr double kFuselageBottomLimit = -2.6;  // at the rig station
@@ -28,10 +28,10 @@ constexpr double kLowestNearRigLimit = -2.8;   // nothing lower within 3 m of th
 
 double XOfStation(double station) { return kHalfLength - station; }
 
-const std::vector<double> kFuselageStations = {0.0,  0.35, 1.0,  2.0,  3.5,  5.0,  7.0, 38.0,
+const std::vector<double> kFuselageStations = {0.0,  0.35, 1.0,   2.0,  3.5,  5.0,  7.0,    38.0,
                                                42.0, 44.0, 45.25, 46.5, 48.0, 49.5, kLength};
-const Profile kFuselageBottom(kFuselageStations, {-0.60, -1.05, -1.60, -2.05, -2.35, -2.48, -2.50, -2.50,
-                                                  -2.48, -2.40, -2.28, -2.00, -1.30, -0.20, 0.90});
+const Profile kFuselageBottom(kFuselageStations, {-0.60, -1.05, -1.60, -2.05, -2.35, -2.48, -2.50, -2.50, -2.48, -2.40,
+                                                  -2.28, -2.00, -1.30, -0.20, 0.90});
 
 Body Fuselage() {
   // 5 m diameter cabin; round nose; tail cone sweeping up from 42 m so the
@@ -41,8 +41,7 @@ Body Fuselage() {
       Profile(s, {-0.60, -0.20, 0.45, 1.25, 1.95, 2.35, 2.50, 2.50, 2.45, 2.35, 2.25, 2.10, 1.80, 1.35, 0.90}),
       kFuselageBottom,
       Profile(s, {-0.60, -0.60, -0.55, -0.45, -0.30, -0.12, 0.00, 0.00, 0.00, 0.05, 0.10, 0.15, 0.30, 0.55, 0.90}),
-      Profile(s, {0.00, 0.50, 1.05, 1.60, 2.10, 2.40, 2.50, 2.50, 2.45, 2.30, 2.12, 1.85, 1.40, 0.75, 0.00}),
-      2.0};
+      Profile(s, {0.00, 0.50, 1.05, 1.60, 2.10, 2.40, 2.50, 2.50, 2.45, 2.30, 2.12, 1.85, 1.40, 0.75, 0.00}), 2.0};
   return Body(std::move(t), Vec3(XOfStation(0.0), 0.0, 0.0), kLength);
 }
 
@@ -70,8 +69,8 @@ Body Engine(double y) {
   const std::vector<double> r = {0.0, 0.95, 1.30, 1.37, 1.35, 1.20, 0.90, 0.55, 0.0};
   std::vector<double> neg(r.size()), zero(r.size(), 0.0);
   std::transform(r.begin(), r.end(), neg.begin(), [](double v) { return -v; });
-  return Body(BodyTables{Profile(s, r), Profile(s, neg), Profile(s, zero), Profile(s, r), 2.0},
-              Vec3(5.3, y, -2.70), 6.4);
+  return Body(BodyTables{Profile(s, r), Profile(s, neg), Profile(s, zero), Profile(s, r), 2.0}, Vec3(5.3, y, -2.70),
+              6.4);
 }
 
 LiftingSurface Wing() {
@@ -158,8 +157,8 @@ RigClearance CheckRigClearance(const SceneModel& scene, const Body& fuselage_bod
         const Vec3& a = m.positions[m.indices[k]];
         const Vec3& b = m.positions[m.indices[k + 1]];
         const Vec3& c = m.positions[m.indices[k + 2]];
-        for (const Vec3& q : {a, b, c, Vec3(0.5 * (a + b)), Vec3(0.5 * (b + c)), Vec3(0.5 * (c + a)),
-                              Vec3((a + b + c) / 3.0)}) {
+        for (const Vec3& q :
+             {a, b, c, Vec3(0.5 * (a + b)), Vec3(0.5 * (b + c)), Vec3(0.5 * (c + a)), Vec3((a + b + c) / 3.0)}) {
           if (InView(kCameraCentres[0], q) || InView(kCameraCentres[1], q)) ++r.vertices_in_view;
         }
       }
@@ -168,9 +167,8 @@ RigClearance CheckRigClearance(const SceneModel& scene, const Body& fuselage_bod
   if (r.fuselage_bottom_at_rig_m <= kFuselageBottomLimit || r.lowest_near_rig_m < kLowestNearRigLimit ||
       r.vertices_in_view != 0) {
     throw Error("kc46: geometry violates the stereo rig clearance (bottom at rig " +
-                             std::to_string(r.fuselage_bottom_at_rig_m) + ", lowest near rig " +
-                             std::to_string(r.lowest_near_rig_m) + ", points in view " +
-                             std::to_string(r.vertices_in_view) + ")");
+                std::to_string(r.fuselage_bottom_at_rig_m) + ", lowest near rig " +
+                std::to_string(r.lowest_near_rig_m) + ", points in view " + std::to_string(r.vertices_in_view) + ")");
   }
   return r;
 }

@@ -4,18 +4,17 @@
 //
 //   aar-make-scenes --out scenes/
 
-#include "c12.h"
-#include "calib_board.h"
-#include "glb_writer.h"
-#include "kc46.h"
-
 #include <CLI/CLI.hpp>
-
 #include <chrono>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <string>
+
+#include "c12.h"
+#include "calib_board.h"
+#include "glb_writer.h"
+#include "kc46.h"
 
 namespace {
 
@@ -96,9 +95,10 @@ int main(int argc, char** argv) {
     const auto kc46_path = options.out_dir / "kc46.glb";
     WriteGlb(kc46, kc46_path);
     Report(kc46, kc46_path, 0);
-    std::printf("  rig clearance: fuselage underside at x=-20: z=%.3f m; lowest point near the cameras: z=%.3f m; "
-                "points inside the cameras' view: %zu\n",
-                clearance.fuselage_bottom_at_rig_m, clearance.lowest_near_rig_m, clearance.vertices_in_view);
+    std::printf(
+        "  rig clearance: fuselage underside at x=-20: z=%.3f m; lowest point near the cameras: z=%.3f m; "
+        "points inside the cameras' view: %zu\n",
+        clearance.fuselage_bottom_at_rig_m, clearance.lowest_near_rig_m, clearance.vertices_in_view);
 
     const SceneModel board = BuildCalibBoard(options.board);
     const auto board_path = options.out_dir / "calib_board.glb";

@@ -4,8 +4,9 @@
 
 #include <array>
 #include <cstdlib>
-#include "aar/error.h"
 #include <string_view>
+
+#include "aar/error.h"
 
 namespace aar::scenes {
 namespace {

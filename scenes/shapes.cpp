@@ -4,8 +4,9 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
-#include "aar/error.h"
 #include <utility>
+
+#include "aar/error.h"
 
 namespace aar::scenes {
 namespace {
@@ -18,9 +19,7 @@ double SignedPow(double x, double e) { return std::copysign(std::pow(std::abs(x)
 /// NACA 4-digit half thickness (closed trailing edge) at chord fraction x, per unit chord.
 double NacaHalfThickness(double x, double t) {
   if (x >= 1.0) return 0.0;  // exactly closed trailing edge (the polynomial leaves ~1e-17)
-  return 5.0 * t *
-         (0.2969 * std::sqrt(x) - 0.1260 * x - 0.3516 * x * x + 0.2843 * x * x * x -
-          0.1036 * x * x * x * x);
+  return 5.0 * t * (0.2969 * std::sqrt(x) - 0.1260 * x - 0.3516 * x * x + 0.2843 * x * x * x - 0.1036 * x * x * x * x);
 }
 
 /// NACA 4-digit camber line (maximum `m` at 40 % chord), per unit chord.
@@ -74,8 +73,8 @@ Body::Body(BodyTables tables, Vec3 nose, double length)
     double step = 0.0;
     for (int k = 0; k < kMeridians; ++k) {
       const double phi = 2.0 * kPi * k / kMeridians;
-      step = std::max(step, (BodySectionPoint(tables_, nose_, s1, phi) -
-                             BodySectionPoint(tables_, nose_, s0, phi)).norm());
+      step = std::max(step,
+                      (BodySectionPoint(tables_, nose_, s1, phi) - BodySectionPoint(tables_, nose_, s0, phi)).norm());
     }
     total += step;
     arc.push_back(total);
@@ -84,7 +83,8 @@ Body::Body(BodyTables tables, Vec3 nose, double length)
       double perimeter = 0.0;
       for (int k = 0; k < kAround; ++k) {
         perimeter += (BodySectionPoint(tables_, nose_, s1, 2.0 * kPi * (k + 1) / kAround) -
-                      BodySectionPoint(tables_, nose_, s1, 2.0 * kPi * k / kAround)).norm();
+                      BodySectionPoint(tables_, nose_, s1, 2.0 * kPi * k / kAround))
+                         .norm();
       }
       max_perimeter_m_ = std::max(max_perimeter_m_, perimeter);
     }
@@ -96,9 +96,7 @@ Body::Body(BodyTables tables, Vec3 nose, double length)
 
 double Body::Station(double u) const { return station_of_u_(u); }
 
-double Body::SectionHeight(double v) const {
-  return SignedPow(-std::cos(2.0 * kPi * v), 2.0 / tables_.exponent);
-}
+double Body::SectionHeight(double v) const { return SignedPow(-std::cos(2.0 * kPi * v), 2.0 / tables_.exponent); }
 
 Vec3 Body::Point(double u, double v) const {
   return BodySectionPoint(tables_, nose_, Station(u), 2.0 * kPi * (v - std::floor(v)));  // v = 1 is exactly v = 0
@@ -128,8 +126,8 @@ LiftingSurface::LiftingSurface(const LiftingSurfaceSpec& spec) : spec_(spec) {
   // and gets the arc length of its quarter ellipse (bounded by pi/2 times the
   // larger of cap length and half thickness); the rest is linear in span.
   root_station_ = spec_.mirrored ? -spec_.semispan : 0.0;
-  const double root_half = 0.5 * (spec_.mirrored ? spec_.tip_thickness * spec_.tip_chord
-                                                 : spec_.root_thickness * spec_.root_chord);
+  const double root_half =
+      0.5 * (spec_.mirrored ? spec_.tip_thickness * spec_.tip_chord : spec_.root_thickness * spec_.root_chord);
   const double tip_half = 0.5 * spec_.tip_thickness * spec_.tip_chord;
   const double root_cap = 0.5 * kPi * std::max(spec_.cap_m, root_half);
   const double tip_cap = 0.5 * kPi * std::max(spec_.cap_m, tip_half);
@@ -198,9 +196,7 @@ Vec3 LiftingSurface::Point(double u, double v) const {
 
 Patch LiftingSurface::MakePatch(int span_segments, int chord_segments, int cap_segments) const {
   Patch p;
-  p.point = [self = std::make_shared<LiftingSurface>(*this)](double u, double v) {
-    return self->Point(u, v);
-  };
+  p.point = [self = std::make_shared<LiftingSurface>(*this)](double u, double v) { return self->Point(u, v); };
   // Rows: uniform in the rounding angle over each end cap, uniform in span between.
   std::vector<double> rows;
   for (int k = 0; k < cap_segments; ++k) rows.push_back(u_root_cap_end_ * k / cap_segments);

@@ -15,10 +15,10 @@ namespace aar::scenes {
 /// At s = 0 and s = length the half-width must be 0 and the top equal the
 /// bottom, so the surface closes in a point at each end.
 struct BodyTables {
-  Profile z_top;       ///< top of the section
-  Profile z_bottom;    ///< bottom of the section
-  Profile z_breadth;   ///< height of the widest point (between bottom and top)
-  Profile half_width;  ///< half of the widest breadth
+  Profile z_top;          ///< top of the section
+  Profile z_bottom;       ///< bottom of the section
+  Profile z_breadth;      ///< height of the widest point (between bottom and top)
+  Profile half_width;     ///< half of the widest breadth
   double exponent = 2.0;  ///< superellipse exponent of the section (2 = ellipse, larger = boxier)
 };
 
@@ -33,7 +33,7 @@ class Body {
   Body(BodyTables tables, Vec3 nose, double length);
 
   Vec3 Point(double u, double v) const;
-  double Station(double u) const;                   ///< s of texture row u
+  double Station(double u) const;  ///< s of texture row u
   /// Normalised section height: -1 at the bottom, 0 at the widest point, +1 at the top.
   double SectionHeight(double v) const;
   const BodyTables& tables() const { return tables_; }
@@ -52,17 +52,17 @@ class Body {
 /// Planform and section of a trapezoidal lifting surface with NACA 4-digit
 /// style sections (closed trailing edge).
 struct LiftingSurfaceSpec {
-  Vec3 root_leading_edge;           ///< leading edge of the root section (span station 0)
-  Vec3 span_axis{0, 1, 0};          ///< unit, root towards the (+) tip
-  Vec3 chord_axis{1, 0, 0};         ///< unit, trailing edge towards leading edge
-  double semispan = 1.0;            ///< root to tip along span_axis (m)
-  double root_chord = 1.0, tip_chord = 1.0;  ///< m
-  double le_sweep_deg = 0.0;        ///< leading edge sweep (tips further aft for > 0)
-  double dihedral_deg = 0.0;        ///< tips raised along the thickness axis
+  Vec3 root_leading_edge;                              ///< leading edge of the root section (span station 0)
+  Vec3 span_axis{0, 1, 0};                             ///< unit, root towards the (+) tip
+  Vec3 chord_axis{1, 0, 0};                            ///< unit, trailing edge towards leading edge
+  double semispan = 1.0;                               ///< root to tip along span_axis (m)
+  double root_chord = 1.0, tip_chord = 1.0;            ///< m
+  double le_sweep_deg = 0.0;                           ///< leading edge sweep (tips further aft for > 0)
+  double dihedral_deg = 0.0;                           ///< tips raised along the thickness axis
   double root_thickness = 0.12, tip_thickness = 0.12;  ///< t/c
-  double camber = 0.0;              ///< max camber / chord, at 40 % chord (NACA m)
-  bool mirrored = false;            ///< spans -semispan..+semispan symmetric about the root (wings, tailplanes)
-  double cap_m = 0.08;              ///< spanwise length over which each free end is rounded shut
+  double camber = 0.0;                                 ///< max camber / chord, at 40 % chord (NACA m)
+  bool mirrored = false;  ///< spans -semispan..+semispan symmetric about the root (wings, tailplanes)
+  double cap_m = 0.08;    ///< spanwise length over which each free end is rounded shut
 };
 
 /// Closed lifting surface. Thickness axis = chord_axis x span_axis ("upper"

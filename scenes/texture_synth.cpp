@@ -9,12 +9,14 @@
 namespace aar::scenes {
 
 RgbImage::RgbImage(int width, int height, int levels)
-    : width_(width), height_(height), levels_(levels),
+    : width_(width),
+      height_(height),
+      levels_(levels),
       pixels_(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3, 0) {}
 
 void RgbImage::Set(int x, int y, const Color& c) {
-  const std::size_t at = (static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) +
-                          static_cast<std::size_t>(x)) * 3;
+  const std::size_t at =
+      (static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x)) * 3;
   for (int k = 0; k < 3; ++k) {
     const double q = std::round(std::clamp(c[k], 0.0, 1.0) * (levels_ - 1)) / (levels_ - 1);
     pixels_[at + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(std::lround(q * 255.0));
@@ -39,8 +41,7 @@ double Hash01(std::uint64_t seed, std::int64_t a, std::int64_t b, std::int64_t c
 
 double ValueNoise::operator()(const Vec3& p) const {
   const double fx = std::floor(p.x()), fy = std::floor(p.y()), fz = std::floor(p.z());
-  const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy),
-             iz = static_cast<std::int64_t>(fz);
+  const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy), iz = static_cast<std::int64_t>(fz);
   auto fade = [](double t) { return t * t * t * (t * (t * 6 - 15) + 10); };
   const double tx = fade(p.x() - fx), ty = fade(p.y() - fy), tz = fade(p.z() - fz);
   auto lattice = [&](std::int64_t dx, std::int64_t dy, std::int64_t dz) {
@@ -140,9 +141,8 @@ AtlasLayout PackAtlas(const std::vector<const Patch*>& patches, int width, int h
   // Tallest first (stable), left to right on shelves.
   std::vector<std::size_t> order(patches.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return patches[a]->length_v_m > patches[b]->length_v_m;
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return patches[a]->length_v_m > patches[b]->length_v_m; });
   auto try_pack = [&](double density, std::vector<AtlasRect>* out) {
     int x = 0, y = 0, shelf = 0;
     for (std::size_t i : order) {
@@ -156,9 +156,12 @@ AtlasLayout PackAtlas(const std::vector<const Patch*>& patches, int width, int h
       }
       if (y + h > height) return false;
       if (out != nullptr) {
-        (*out)[i] = AtlasRect{static_cast<double>(x + gutter), static_cast<double>(y + gutter),
-                              static_cast<double>(w - 2 * gutter), static_cast<double>(h - 2 * gutter),
-                              width, height};
+        (*out)[i] = AtlasRect{static_cast<double>(x + gutter),
+                              static_cast<double>(y + gutter),
+                              static_cast<double>(w - 2 * gutter),
+                              static_cast<double>(h - 2 * gutter),
+                              width,
+                              height};
       }
       x += w;
       shelf = std::max(shelf, h);

@@ -3,12 +3,12 @@
 // baking loop that evaluates a paint function for every texel of a patch.
 #pragma once
 
-#include "geometry.h"
-
 #include <cstdint>
 #include <functional>
 #include <string_view>
 #include <vector>
+
+#include "geometry.h"
 
 namespace aar::scenes {
 

@@ -2,15 +2,14 @@
 // Helpers shared by the test executables: temporary folders, running the
 // command-line tools, reading files.
 
+#include <gtest/gtest.h>
+#include <unistd.h>
+
 #include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
-
-#include <unistd.h>
-
-#include <gtest/gtest.h>
 
 namespace aar::test {
 

@@ -8,8 +8,8 @@
 #include "aar/error.h"
 #include "aar/file_io.h"
 #include "aar/flight_path.h"
-#include "aar/region.h"
 #include "aar/progress.h"
+#include "aar/region.h"
 
 namespace aar {
 namespace {
@@ -76,8 +76,8 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
 }
 
 std::string DescribeSelection(const FrameSelection& s) {
-  std::string text = std::to_string(s.begin) + ":" +
-                     (s.end == static_cast<size_t>(-1) ? std::string() : std::to_string(s.end));
+  std::string text =
+      std::to_string(s.begin) + ":" + (s.end == static_cast<size_t>(-1) ? std::string() : std::to_string(s.end));
   if (s.shard_count > 1) text += " shard " + std::to_string(s.shard_index) + "/" + std::to_string(s.shard_count);
   return text;
 }
@@ -164,10 +164,10 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
   }
   const cv::Size rig_size(rig.left.intrinsics.width_px, rig.left.intrinsics.height_px);
   if (calibration.image_size != rig_size) {
-    throw Error((options.calibration ? options.calibration->string() : std::string("calibration")) +
-                ": image size " + std::to_string(calibration.image_size.width) + "x" +
-                std::to_string(calibration.image_size.height) + " differs from the dataset's " +
-                std::to_string(rig_size.width) + "x" + std::to_string(rig_size.height));
+    throw Error((options.calibration ? options.calibration->string() : std::string("calibration")) + ": image size " +
+                std::to_string(calibration.image_size.width) + "x" + std::to_string(calibration.image_size.height) +
+                " differs from the dataset's " + std::to_string(rig_size.width) + "x" +
+                std::to_string(rig_size.height));
   }
   // Truth for frames whose sidecar cannot be read comes from the flight path.
   std::vector<FlightSample> flight_path;

@@ -2,11 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
-
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
 #include "aar/analyzer/disparity.h"
 #include "aar/error.h"
@@ -61,11 +60,11 @@ void EpipolarErrors(const std::vector<PairDetection>& pairs, const StereoCalibra
     cv::undistortPoints(pair.right_corners, right, c.M2, c.D2, cv::noArray(), c.M2);
     for (size_t i = 0; i < left.size(); ++i) {
       const cv::Vec3d pl(left[i].x, left[i].y, 1.0), pr(right[i].x, right[i].y, 1.0);
-      const cv::Vec3d line_r = F * pl;            // epipolar line of p_l in the right image
-      const cv::Vec3d line_l = F.t() * pr;        // epipolar line of p_r in the left image
+      const cv::Vec3d line_r = F * pl;                     // epipolar line of p_l in the right image
+      const cv::Vec3d line_l = F.t() * pr;                 // epipolar line of p_r in the left image
       const double constraint = std::abs(pr.dot(line_r));  // |p_r^T F p_l|
-      distance_sum += 0.5 * (constraint / std::hypot(line_r[0], line_r[1]) +
-                             constraint / std::hypot(line_l[0], line_l[1]));
+      distance_sum +=
+          0.5 * (constraint / std::hypot(line_r[0], line_r[1]) + constraint / std::hypot(line_l[0], line_l[1]));
       algebraic_sum += constraint;
       ++n;
     }
@@ -122,7 +121,8 @@ void CalibrationOptions::Check() const {
   if (subpix_half_window_px < 1) fail("subpix_half_window_px must be at least 1");
   if (subpix_max_iterations < 1 || max_iterations < 1) fail("iteration counts must be positive");
   if (!(subpix_epsilon_px >= 0) || !(epsilon >= 0)) fail("epsilons must be non-negative");
-  if (!(rectify_alpha == -1.0 || (rectify_alpha >= 0 && rectify_alpha <= 1))) fail("rectify_alpha must be -1 or in [0, 1]");
+  if (!(rectify_alpha == -1.0 || (rectify_alpha >= 0 && rectify_alpha <= 1)))
+    fail("rectify_alpha must be -1 or in [0, 1]");
   if (min_pairs < 3) fail("min_pairs must be at least 3 (Zhang's method)");
   if (!(min_pair_fraction >= 0 && min_pair_fraction <= 1)) fail("min_pair_fraction must be in [0, 1]");
 }
@@ -190,8 +190,8 @@ CalibrationResult CalibrateFromDetections(std::vector<PairDetection> pairs, cv::
     right_points.push_back(p.right_corners);
   }
   const size_t used = object_points.size();
-  const size_t needed = std::max(options.min_pairs,
-                                 static_cast<size_t>(std::ceil(options.min_pair_fraction * pairs.size() - 1e-9)));
+  const size_t needed =
+      std::max(options.min_pairs, static_cast<size_t>(std::ceil(options.min_pair_fraction * pairs.size() - 1e-9)));
   if (used < needed) {
     std::ostringstream message;
     message << source << ": found the " << BoardName(options.board) << " chessboard in both images of only " << used
@@ -207,8 +207,10 @@ CalibrationResult CalibrateFromDetections(std::vector<PairDetection> pairs, cv::
 
   // Zhang's method per camera, then the stereo refinement (thesis 3.3).
   int flags = 0;
-  if (options.fix_distortion) flags |= cv::CALIB_FIX_K1 | cv::CALIB_FIX_K2 | cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST;
-  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.max_iterations, options.epsilon);
+  if (options.fix_distortion)
+    flags |= cv::CALIB_FIX_K1 | cv::CALIB_FIX_K2 | cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST;
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.max_iterations,
+                                  options.epsilon);
   StereoCalibration& c = result.calibration;
   c.image_size = image_size;
   try {
@@ -272,7 +274,8 @@ CalibrationResult CalibrateFromDataset(const std::filesystem::path& dataset, con
     pair.left = ReadImage(dataset / pair.left_name, pair.left_name);
     pair.right = ReadImage(dataset / pair.right_name, pair.right_name);
     if (i == 0) size = pair.left.size();
-    for (const auto& [image, name] : {std::pair{&pair.left, &pair.left_name}, std::pair{&pair.right, &pair.right_name}}) {
+    for (const auto& [image, name] :
+         {std::pair{&pair.left, &pair.left_name}, std::pair{&pair.right, &pair.right_name}}) {
       if (image->size() != size) {
         throw Error((dataset / *name).string() + ": image is " + std::to_string(image->cols) + "x" +
                     std::to_string(image->rows) + ", expected " + std::to_string(size.width) + "x" +

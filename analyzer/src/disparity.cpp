@@ -1,10 +1,9 @@
 #include "aar/analyzer/disparity.h"
 
 #include <cmath>
-#include <string>
-
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "aar/error.h"
 
@@ -56,10 +55,16 @@ cv::Mat ToGrayscale(const cv::Mat& image, const std::string& name) {
   if (image.depth() != CV_8U) throw Error(name + ": expected an 8-bit image");
   cv::Mat gray;
   switch (image.channels()) {
-    case 1: return image;
-    case 3: cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY); return gray;
-    case 4: cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY); return gray;
-    default: throw Error(name + ": expected 1, 3 or 4 channels");
+    case 1:
+      return image;
+    case 3:
+      cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
+      return gray;
+    case 4:
+      cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY);
+      return gray;
+    default:
+      throw Error(name + ": expected 1, 3 or 4 channels");
   }
 }
 
@@ -84,8 +89,7 @@ void Rectifier::Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& rect
   const cv::Rect all(0, 0, image_size_.width, image_size_.height);
   const cv::Rect r = region.area() > 0 ? region & all : all;
   cv::remap(ToGrayscale(left), rect_left_gray, left_map1_(r), left_map2_(r), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
-  cv::remap(ToGrayscale(right), rect_right_gray, right_map1_(r), right_map2_(r), cv::INTER_LINEAR,
-            cv::BORDER_CONSTANT);
+  cv::remap(ToGrayscale(right), rect_right_gray, right_map1_(r), right_map2_(r), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
 }
 
 DisparityMap ComputeDisparity(const cv::Mat& rect_left_gray, const cv::Mat& rect_right_gray,

@@ -1,7 +1,6 @@
 #include "aar/analyzer/disparity_cleaning.h"
 
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 #include "aar/error.h"
@@ -43,8 +42,8 @@ size_t RemoveHalo(cv::Mat& disparity16, int invalid_value16, const HaloRemovalOp
   }
   cv::Mat near_boundary;
   const int size = 2 * options.radius_px + 1;
-  cv::dilate(boundary, near_boundary, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(size, size)), cv::Point(-1, -1),
-             1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::dilate(boundary, near_boundary, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(size, size)),
+             cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
   size_t removed = 0;
   for (int v = 0; v < rows; ++v) {
     short* row = disparity16.ptr<short>(v);

@@ -1,14 +1,12 @@
 #include "aar/analyzer/frame_analysis.h"
 
-#include "aar/analyzer/subpixel.h"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
-
 #include <opencv2/imgcodecs.hpp>
 
+#include "aar/analyzer/subpixel.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
 #include "aar/region.h"
@@ -28,7 +26,8 @@ cv::Mat ReadImage(const std::filesystem::path& dataset, const FileRef& ref,
   if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": image missing");
   const std::string bytes = ReadFileBytes(path);
   const std::string hash = Sha256Hex(bytes);
-  if (hash != ref.sha256) throw Error(path.string() + ": SHA-256 differs from the sidecar's (file changed or truncated)");
+  if (hash != ref.sha256)
+    throw Error(path.string() + ": SHA-256 differs from the sidecar's (file changed or truncated)");
   if (const auto it = expected_hashes.find(ref.path); it != expected_hashes.end() && it->second != hash) {
     throw Error(path.string() + ": SHA-256 differs from manifest.json's");
   }
@@ -178,7 +177,8 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
 
     start = std::chrono::steady_clock::now();
     ReprojectionOptions reprojection = options_.reprojection;
-    if (options_.remove_rounding_bias) reprojection.disparity_offset_px += MatcherRoundingBiasPx(disparity_options.algorithm);
+    if (options_.remove_rounding_bias)
+      reprojection.disparity_offset_px += MatcherRoundingBiasPx(disparity_options.algorithm);
     cloud = Reproject(disparity.disparity16, disparity.invalid_value16, calibration_, tanker_from_left_, reprojection,
                       refiner.get(), region.tl());
     r.sensed_points = cloud.points_in_tanker.size();
@@ -189,8 +189,8 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
     }
     if (truth) {
       std::vector<Eigen::Vector3d> ideal;
-      r.stereo_truth = CompareWithTruth(cloud.pixels, *truth, calibration_, {},
-                                        options_.register_truth_cloud ? &ideal : nullptr);
+      r.stereo_truth =
+          CompareWithTruth(cloud.pixels, *truth, calibration_, {}, options_.register_truth_cloud ? &ideal : nullptr);
       if (options_.register_truth_cloud) {
         cloud.points_in_tanker.clear();
         for (const Eigen::Vector3d& p : ideal) cloud.points_in_tanker.push_back(tanker_from_rect_left * p);
@@ -277,7 +277,8 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
     const std::string left_path = (dataset / sidecar.files.at("left").path).string();
     std::optional<DepthTruth> truth;
     if (options_.compare_with_truth && sidecar.files.count("left_depth") && sidecar.files.count("left_mask")) {
-      truth = ReadDepthTruth(dataset / sidecar.files.at("left_depth").path, dataset / sidecar.files.at("left_mask").path);
+      truth =
+          ReadDepthTruth(dataset / sidecar.files.at("left_depth").path, dataset / sidecar.files.at("left_mask").path);
     } else if (options_.register_truth_cloud) {
       throw Error(left_path + ": no depth truth for the ideal cloud (render with --depth)");
     }

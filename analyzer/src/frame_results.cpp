@@ -103,7 +103,8 @@ std::string FormatFrameResults(const std::vector<FrameResult>& results) {
     field(FormatFixed(t.error_squared_sum_px2, kValueDecimals));
     std::string bins;
     for (size_t b = 0; b < kFractionBins; ++b) {
-      bins += (b ? " " : "") + std::to_string(t.bin_count[b]) + "/" + FormatFixed(t.bin_error_sum_px[b], kValueDecimals);
+      bins +=
+          (b ? " " : "") + std::to_string(t.bin_count[b]) + "/" + FormatFixed(t.bin_error_sum_px[b], kValueDecimals);
     }
     field(bins);
     StageTimes times = f.times;

@@ -1,12 +1,11 @@
 #include "aar/analyzer/icp.h"
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
-
-#include <Eigen/SVD>
 
 #include "aar/analyzer/nearest_cache.h"
 #include "aar/error.h"

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <iterator>
-
 #include <nanoflann.hpp>
 
 #include "aar/error.h"

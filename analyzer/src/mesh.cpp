@@ -1,12 +1,12 @@
 #include "aar/analyzer/mesh.h"
 
+#include <tiny_gltf.h>
+
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <string>
-
-#include <Eigen/Geometry>
-#include <tiny_gltf.h>
 
 #include "aar/error.h"
 #include "aar/gltf_accessor.h"

@@ -1,9 +1,8 @@
 #include "aar/analyzer/plane_icp.h"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
-
-#include <Eigen/Cholesky>
 
 #include "aar/analyzer/nearest_cache.h"
 #include "aar/error.h"
@@ -13,10 +12,10 @@ namespace {
 
 // Per sensed point: the noise model's variances along and across its ray.
 struct SensedNoise {
-  Eigen::Vector3d ray;     // unit viewing ray in the tanker frame
-  double ray_variance;     // sigma_ray^2 [m^2]
-  double lateral_variance; // sigma_lat^2 [m^2]
-  double gate_squared;     // pairs farther than sqrt(this) are ignored [m^2]
+  Eigen::Vector3d ray;      // unit viewing ray in the tanker frame
+  double ray_variance;      // sigma_ray^2 [m^2]
+  double lateral_variance;  // sigma_lat^2 [m^2]
+  double gate_squared;      // pairs farther than sqrt(this) are ignored [m^2]
 };
 
 std::vector<SensedNoise> NoiseOf(const std::vector<Eigen::Vector3d>& sensed, const StereoNoiseGeometry& g,
@@ -143,7 +142,8 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
   // coarse_stride) until the steps fall below ten times the tolerances; the
   // fine phase then uses every point. Early steps are large and miss the
   // nearest-neighbour cache, so they are the expensive ones.
-  size_t coarse = std::max<size_t>(1, std::min(o.coarse_stride, sensed.size() / std::max<size_t>(1, o.coarse_min_points)));
+  size_t coarse =
+      std::max<size_t>(1, std::min(o.coarse_stride, sensed.size() / std::max<size_t>(1, o.coarse_min_points)));
   for (int k = 0;; ++k) {
     const Eigen::Isometry3d& tanker_from_receiver = result.tanker_from_receiver;
     const Eigen::Isometry3d receiver_from_tanker = tanker_from_receiver.inverse();
@@ -176,7 +176,8 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
                       unused);
       }
     }
-    const double rmse = inliers > 0 ? std::sqrt(sum_squared * static_cast<double>(coarse) / static_cast<double>(inliers)) : 0.0;
+    const double rmse =
+        inliers > 0 ? std::sqrt(sum_squared * static_cast<double>(coarse) / static_cast<double>(inliers)) : 0.0;
     if (k == 0) result.initial_rmse_m = rmse;
     result.num_inliers = inliers;
     result.rmse_m = rmse;

@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
-
-#include <nlohmann/json.hpp>
 
 #include "aar/error.h"
 #include "aar/file_io.h"
@@ -208,9 +207,10 @@ std::string SummaryToMarkdown(const Summary& summary) {
          DofTable(summary, regions, "Region", false) + "\n";
   out += std::string("## RMS 6DOF error by region (Table 5 layout)\n\n") + DofTable(summary, regions, "Region", true) +
          "\n";
-  out += "## Every frame (mean absolute error of every frame with an estimate, measured or rejected)\n\n"
-          "| Region | Model | X (m) | Y (m) | Z (m) | Roll (deg) | Pitch (deg) | Yaw (deg) | Frames (estimated/all) |\n"
-          "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  out +=
+      "## Every frame (mean absolute error of every frame with an estimate, measured or rejected)\n\n"
+      "| Region | Model | X (m) | Y (m) | Z (m) | Roll (deg) | Pitch (deg) | Yaw (deg) | Frames (estimated/all) |\n"
+      "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const std::string& group : regions) {
     for (const ModelSummary& m : summary.models) {
       const GroupStats* g = FindGroup(m, group);
@@ -231,9 +231,11 @@ std::string SummaryToMarkdown(const Summary& summary) {
     for (const GroupStats& g : m.groups) any_truth = any_truth || g.stereo_truth.points > 0;
   }
   if (any_truth) {
-    out += "## The sensed cloud against depth truth\n\n"
-           "| Region | Model | Points | Off the receiver | Off the surface (> 0.5 px) | Disparity error mean (px) | RMS (px) |\n"
-           "|---|---|---:|---:|---:|---:|---:|\n";
+    out +=
+        "## The sensed cloud against depth truth\n\n"
+        "| Region | Model | Points | Off the receiver | Off the surface (> 0.5 px) | Disparity error mean (px) | RMS "
+        "(px) |\n"
+        "|---|---|---:|---:|---:|---:|---:|\n";
     for (const std::string& group : regions) {
       for (const ModelSummary& m : summary.models) {
         const GroupStats* g = FindGroup(m, group);

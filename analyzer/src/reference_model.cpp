@@ -124,9 +124,12 @@ DepthBuffer RasterizeDepth(const TriangleMesh& mesh, const Intrinsics& k, const 
 
 std::string ToString(ShellCameras cameras) {
   switch (cameras) {
-    case ShellCameras::kLeft: return "left";
-    case ShellCameras::kEither: return "either";
-    case ShellCameras::kBoth: return "both";
+    case ShellCameras::kLeft:
+      return "left";
+    case ShellCameras::kEither:
+      return "either";
+    case ShellCameras::kBoth:
+      return "both";
   }
   return "both";
 }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <opencv2/core/eigen.hpp>
 
 #include "aar/error.h"

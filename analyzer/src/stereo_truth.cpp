@@ -1,8 +1,8 @@
 #include "aar/analyzer/stereo_truth.h"
 
-#include <cmath>
-
 #include <OpenImageIO/imageio.h>
+
+#include <cmath>
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -37,7 +37,8 @@ DepthTruth ReadDepthTruth(const std::filesystem::path& depth_exr, const std::fil
   }
   truth.ids = cv::imread(mask_png.string(), cv::IMREAD_GRAYSCALE);
   if (truth.ids.empty()) throw Error(mask_png.string() + ": cannot read the object-id mask");
-  if (truth.ids.size() != truth.depth_m.size()) throw Error(mask_png.string() + ": size differs from the depth image's");
+  if (truth.ids.size() != truth.depth_m.size())
+    throw Error(mask_png.string() + ": size differs from the depth image's");
   return truth;
 }
 

@@ -1,9 +1,8 @@
 #include "aar/analyzer/subpixel.h"
 
 #include <cmath>
-#include <vector>
-
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "aar/error.h"
 
@@ -50,8 +49,8 @@ std::optional<RefinedDisparity> SubpixelRefiner::Refine(int u_image, int v_image
   const double start = disparity_px - d_int;
   // Both windows need their samples and the next column inside the image.
   const int margin = h + 2;
-  if (v - h < 0 || v + h >= left_.rows || u - margin < 0 || u + margin >= left_.cols ||
-      u - d_int - margin < 0 || u - d_int + margin >= left_.cols) {
+  if (v - h < 0 || v + h >= left_.rows || u - margin < 0 || u + margin >= left_.cols || u - d_int - margin < 0 ||
+      u - d_int + margin >= left_.cols) {
     return std::nullopt;
   }
   std::vector<float> residual(static_cast<size_t>(n)), jacobian(static_cast<size_t>(n));

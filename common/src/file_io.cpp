@@ -1,6 +1,7 @@
 #include "aar/file_io.h"
 
 #include <fcntl.h>
+#include <openssl/evp.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -8,8 +9,6 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
-
-#include <openssl/evp.h>
 
 #include "aar/error.h"
 

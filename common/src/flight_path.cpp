@@ -13,7 +13,8 @@ std::vector<FlightSample> ReadFlightPath(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in) throw Error(path.string() + ": cannot open flight path");
   std::string line;
-  if (!std::getline(in, line)) throw Error(path.string() + ":1: empty file, expected header '" + kFlightPathHeader + "'");
+  if (!std::getline(in, line))
+    throw Error(path.string() + ":1: empty file, expected header '" + kFlightPathHeader + "'");
   if (TrimCr(line) != kFlightPathHeader) {
     throw Error(path.string() + ":1: wrong header '" + TrimCr(line) + "', expected '" + kFlightPathHeader + "'");
   }
@@ -50,8 +51,7 @@ std::string FormatFlightPath(const std::vector<FlightSample>& samples) {
     const Pose& p = s.tanker_from_receiver;
     out << FormatFixed(s.time_s, 3) << ',' << FormatFixed(p.translation_m.x(), 4) << ','
         << FormatFixed(p.translation_m.y(), 4) << ',' << FormatFixed(p.translation_m.z(), 4) << ','
-        << FormatFixed(p.roll_deg, 4) << ',' << FormatFixed(p.pitch_deg, 4) << ',' << FormatFixed(p.yaw_deg, 4)
-        << '\n';
+        << FormatFixed(p.roll_deg, 4) << ',' << FormatFixed(p.pitch_deg, 4) << ',' << FormatFixed(p.yaw_deg, 4) << '\n';
   }
   return out.str();
 }

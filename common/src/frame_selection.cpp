@@ -33,8 +33,8 @@ FrameSelection ParseFrameSelection(const std::string& frames, const std::string&
     const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
     if (id != nullptr && count != nullptr) {
       const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
-      const long long k = ParseInteger(id, "SLURM_ARRAY_TASK_ID") -
-                          (min != nullptr ? ParseInteger(min, "SLURM_ARRAY_TASK_MIN") : 0);
+      const long long k =
+          ParseInteger(id, "SLURM_ARRAY_TASK_ID") - (min != nullptr ? ParseInteger(min, "SLURM_ARRAY_TASK_MIN") : 0);
       shard_text = std::to_string(k) + "/" + count;
     }
   }

@@ -1,8 +1,7 @@
 #include "aar/gltf_scene.h"
 
-#include <vector>
-
 #include <Eigen/Geometry>
+#include <vector>
 
 #include "aar/error.h"
 #include "aar/pose.h"

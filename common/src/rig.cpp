@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <fstream>
-
 #include <nlohmann/json.hpp>
 
 #include "aar/error.h"
@@ -51,8 +50,7 @@ nlohmann::json IsometryToJson(const Eigen::Isometry3d& a_from_b) {
   const Eigen::Matrix3d r = a_from_b.linear();
   const Eigen::Vector3d t = a_from_b.translation();
   return {{"translation_m", {t.x(), t.y(), t.z()}},
-          {"rotation",
-           {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}}}};
+          {"rotation", {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}}}};
 }
 
 Intrinsics IntrinsicsFromJson(const nlohmann::json& j, int width, int height, const std::string& where) {

@@ -1,7 +1,6 @@
 #include "aar/stereo_calibration.h"
 
 #include <cmath>
-
 #include <opencv2/core/eigen.hpp>
 
 #include "aar/error.h"
@@ -19,7 +18,9 @@ StereoCalibration IdealCalibration(const StereoRig& rig) {
   const bool same = kl.fx_px == kr.fx_px && kl.fy_px == kr.fy_px && kl.cx_px == kr.cx_px && kl.cy_px == kr.cy_px &&
                     kl.width_px == kr.width_px && kl.height_px == kr.height_px && kl.fx_px == kl.fy_px;
   if (!parallel || !same) {
-    throw Error("ideal calibration needs parallel cameras with identical square-pixel intrinsics, offset along the left camera's +x");
+    throw Error(
+        "ideal calibration needs parallel cameras with identical square-pixel intrinsics, offset along the left "
+        "camera's +x");
   }
   const double b = -t.x();
   StereoCalibration c;

@@ -8,7 +8,8 @@ namespace {
 bool InsideWithMargin(const Camera& camera, const Eigen::Vector3d& point_in_tanker, double margin) {
   const auto pixel = camera.intrinsics.Project(camera.tanker_from_camera.inverse() * point_in_tanker);
   return pixel && pixel->x() >= margin && pixel->y() >= margin &&
-         pixel->x() <= camera.intrinsics.width_px - 1 - margin && pixel->y() <= camera.intrinsics.height_px - 1 - margin;
+         pixel->x() <= camera.intrinsics.width_px - 1 - margin &&
+         pixel->y() <= camera.intrinsics.height_px - 1 - margin;
 }
 
 }  // namespace
@@ -27,9 +28,9 @@ std::vector<Pose> CalibrationBoardPoses(const StereoRig& rig, const CalibPoseOpt
     double shift_x_m, shift_y_m;                   // board-centre offset across the optical axis
   };
   static const Tilt kTilts[] = {
-      {0, 0, 4, 0.13, 0.07},  {25, 0, 0, 0, 0.5},      {-25, 0, 0, 0, -0.5},   {0, 25, 0, 0.5, 0},
-      {0, -25, 0, -0.5, 0},   {20, 20, 5, 0.5, 0.5},   {-20, 20, -5, 0.5, -0.5}, {20, -20, -5, -0.5, 0.5},
-      {-20, -20, 5, -0.5, -0.5}, {10, -10, 15, 0, 0},  {-10, 10, -15, 0, 0},   {30, 15, 0, 0.3, 0.3},
+      {0, 0, 4, 0.13, 0.07},     {25, 0, 0, 0, 0.5},    {-25, 0, 0, 0, -0.5},     {0, 25, 0, 0.5, 0},
+      {0, -25, 0, -0.5, 0},      {20, 20, 5, 0.5, 0.5}, {-20, 20, -5, 0.5, -0.5}, {20, -20, -5, -0.5, 0.5},
+      {-20, -20, 5, -0.5, -0.5}, {10, -10, 15, 0, 0},   {-10, 10, -15, 0, 0},     {30, 15, 0, 0.3, 0.3},
   };
   const std::vector<Eigen::Vector3d> outline = BoardOutline(options);
   const Eigen::Vector3d centre_in_board((options.board.inner_corners_x - 1) * options.board.square_m / 2.0,

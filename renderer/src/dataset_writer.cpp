@@ -28,9 +28,7 @@ std::string FirstMismatch(const nlohmann::json& wanted, const nlohmann::json& ex
 
 }  // namespace
 
-nlohmann::json RendererIdentity() {
-  return {{"name", "aar-render"}, {"version", AAR_VERSION}, {"git", AAR_GIT_HASH}};
-}
+nlohmann::json RendererIdentity() { return {{"name", "aar-render"}, {"version", AAR_VERSION}, {"git", AAR_GIT_HASH}}; }
 
 void OpenManifest(const std::filesystem::path& dataset, const nlohmann::json& header) {
   const std::filesystem::path path = dataset / kManifestName;

@@ -1,9 +1,9 @@
 #include "aar/renderer/image_encode.h"
 
+#include <OpenImageIO/imageio.h>
+
 #include <algorithm>
 #include <array>
-
-#include <OpenImageIO/imageio.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "aar/error.h"

@@ -19,9 +19,7 @@ int BitReverse(int value, int count) {
 
 }  // namespace
 
-bool IsSupportedMsaaLevel(int level) {
-  return level == 1 || level == 4 || level == 8 || level == 16 || level == 32;
-}
+bool IsSupportedMsaaLevel(int level) { return level == 1 || level == 4 || level == 8 || level == 16 || level == 32; }
 
 std::vector<Vec2> StandardSampleLocations(int samples) {
   auto sixteenths = [](std::vector<std::pair<int, int>> p) {
@@ -30,14 +28,33 @@ std::vector<Vec2> StandardSampleLocations(int samples) {
     return out;
   };
   switch (samples) {
-    case 1: return {{0.5, 0.5}};
-    case 2: return sixteenths({{12, 12}, {4, 4}});
-    case 4: return sixteenths({{6, 2}, {14, 6}, {2, 10}, {10, 14}});
-    case 8: return sixteenths({{9, 5}, {7, 11}, {13, 9}, {5, 3}, {3, 13}, {1, 7}, {11, 15}, {15, 1}});
+    case 1:
+      return {{0.5, 0.5}};
+    case 2:
+      return sixteenths({{12, 12}, {4, 4}});
+    case 4:
+      return sixteenths({{6, 2}, {14, 6}, {2, 10}, {10, 14}});
+    case 8:
+      return sixteenths({{9, 5}, {7, 11}, {13, 9}, {5, 3}, {3, 13}, {1, 7}, {11, 15}, {15, 1}});
     case 16:
-      return sixteenths({{9, 9}, {7, 5}, {5, 10}, {12, 7}, {3, 6}, {10, 13}, {13, 11}, {11, 3},
-                         {6, 14}, {8, 1}, {4, 2}, {2, 12}, {0, 8}, {15, 4}, {14, 15}, {1, 0}});
-    default: throw Error("no standard sample locations for " + std::to_string(samples) + " samples");
+      return sixteenths({{9, 9},
+                         {7, 5},
+                         {5, 10},
+                         {12, 7},
+                         {3, 6},
+                         {10, 13},
+                         {13, 11},
+                         {11, 3},
+                         {6, 14},
+                         {8, 1},
+                         {4, 2},
+                         {2, 12},
+                         {0, 8},
+                         {15, 4},
+                         {14, 15},
+                         {1, 0}});
+    default:
+      throw Error("no standard sample locations for " + std::to_string(samples) + " samples");
   }
 }
 

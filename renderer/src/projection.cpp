@@ -39,13 +39,14 @@ double InViewFraction(const std::vector<Eigen::Vector3d>& points_in_object, cons
 
 namespace aar {
 
-PixelRect ProjectedRect(const Eigen::Matrix4d& clip_from_object, const Eigen::AlignedBox3d& box, int width,
-                        int height, int margin_px) {
+PixelRect ProjectedRect(const Eigen::Matrix4d& clip_from_object, const Eigen::AlignedBox3d& box, int width, int height,
+                        int margin_px) {
   const PixelRect full{0, 0, width, height};
   if (box.isEmpty()) return PixelRect{};
   double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
   for (int i = 0; i < 8; ++i) {
-    const Eigen::Vector4d clip = clip_from_object * box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(i)).homogeneous();
+    const Eigen::Vector4d clip =
+        clip_from_object * box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(i)).homogeneous();
     if (clip.w() <= 1e-6) return full;  // the box reaches behind the camera
     const double x = (clip.x() / clip.w() + 1.0) * width / 2.0;
     const double y = (clip.y() / clip.w() + 1.0) * height / 2.0;

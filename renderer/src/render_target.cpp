@@ -7,7 +7,11 @@ namespace aar {
 RenderTarget::RenderTarget(VulkanContext& context, uint32_t w, uint32_t h, int samples, VkFormat color_format)
     : device_(context.device()), samples_(samples) {
   const auto sample_bits = static_cast<VkSampleCountFlagBits>(samples);
-  GpuImageDesc color{w, h, 1, color_format, sample_bits,
+  GpuImageDesc color{w,
+                     h,
+                     1,
+                     color_format,
+                     sample_bits,
                      static_cast<VkImageUsageFlags>(VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
                                                     (samples == 1 ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0)),
                      VK_IMAGE_ASPECT_COLOR_BIT};
@@ -15,23 +19,40 @@ RenderTarget::RenderTarget(VulkanContext& context, uint32_t w, uint32_t h, int s
   depth_ = GpuImage(context, {w, h, 1, kDepthFormat, sample_bits, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
                               VK_IMAGE_ASPECT_DEPTH_BIT});
   if (samples > 1) {
-    resolve_ = GpuImage(context, {w, h, 1, color_format, VK_SAMPLE_COUNT_1_BIT,
-                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                                  VK_IMAGE_ASPECT_COLOR_BIT});
+    resolve_ = GpuImage(
+        context, {w, h, 1, color_format, VK_SAMPLE_COUNT_1_BIT,
+                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT});
   }
 
   std::vector<VkAttachmentDescription> attachments(samples > 1 ? 3 : 2);
-  attachments[0] = {0, color_format, sample_bits, VK_ATTACHMENT_LOAD_OP_CLEAR,
+  attachments[0] = {0,
+                    color_format,
+                    sample_bits,
+                    VK_ATTACHMENT_LOAD_OP_CLEAR,
                     samples > 1 ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
-                    VK_ATTACHMENT_LOAD_OP_DONT_CARE, VK_ATTACHMENT_STORE_OP_DONT_CARE, VK_IMAGE_LAYOUT_UNDEFINED,
+                    VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                    VK_ATTACHMENT_STORE_OP_DONT_CARE,
+                    VK_IMAGE_LAYOUT_UNDEFINED,
                     samples > 1 ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
-  attachments[1] = {0, kDepthFormat, sample_bits, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_DONT_CARE,
-                    VK_ATTACHMENT_LOAD_OP_DONT_CARE, VK_ATTACHMENT_STORE_OP_DONT_CARE, VK_IMAGE_LAYOUT_UNDEFINED,
+  attachments[1] = {0,
+                    kDepthFormat,
+                    sample_bits,
+                    VK_ATTACHMENT_LOAD_OP_CLEAR,
+                    VK_ATTACHMENT_STORE_OP_DONT_CARE,
+                    VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                    VK_ATTACHMENT_STORE_OP_DONT_CARE,
+                    VK_IMAGE_LAYOUT_UNDEFINED,
                     VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
   if (samples > 1) {
-    attachments[2] = {0, color_format, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-                      VK_ATTACHMENT_STORE_OP_STORE, VK_ATTACHMENT_LOAD_OP_DONT_CARE, VK_ATTACHMENT_STORE_OP_DONT_CARE,
-                      VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
+    attachments[2] = {0,
+                      color_format,
+                      VK_SAMPLE_COUNT_1_BIT,
+                      VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                      VK_ATTACHMENT_STORE_OP_STORE,
+                      VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                      VK_ATTACHMENT_STORE_OP_DONT_CARE,
+                      VK_IMAGE_LAYOUT_UNDEFINED,
+                      VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
   }
   VkAttachmentReference color_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
   VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};

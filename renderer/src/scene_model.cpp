@@ -2,11 +2,10 @@
 
 #include <tiny_gltf.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <optional>
-
-#include <Eigen/Geometry>
 
 #include "aar/error.h"
 #include "aar/gltf_accessor.h"
@@ -15,8 +14,9 @@
 namespace aar {
 namespace {
 
-void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim, const Eigen::Matrix4d& body_from_node,
-                     const std::string& where, std::vector<int>& texture_of_image, SceneModel& out) {
+void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                     const Eigen::Matrix4d& body_from_node, const std::string& where,
+                     std::vector<int>& texture_of_image, SceneModel& out) {
   if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) return;  // points and lines are not rendered
   const auto position = prim.attributes.find("POSITION");
   if (position == prim.attributes.end()) throw Error(where + ": primitive without POSITION");
@@ -34,12 +34,13 @@ void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& pr
   const Eigen::Matrix3d normal_matrix = linear.inverse().transpose();
   p.vertices.resize(positions.count());
   for (size_t i = 0; i < positions.count(); ++i) {
-    const Eigen::Vector3d x = linear * Eigen::Vector3d(positions.Component(i, 0), positions.Component(i, 1),
-                                                       positions.Component(i, 2)) +
-                              body_from_node.topRightCorner<3, 1>();
+    const Eigen::Vector3d x =
+        linear * Eigen::Vector3d(positions.Component(i, 0), positions.Component(i, 1), positions.Component(i, 2)) +
+        body_from_node.topRightCorner<3, 1>();
     Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
     if (normals && i < normals->count()) {
-      n = (normal_matrix * Eigen::Vector3d(normals->Component(i, 0), normals->Component(i, 1), normals->Component(i, 2)));
+      n = (normal_matrix *
+           Eigen::Vector3d(normals->Component(i, 0), normals->Component(i, 1), normals->Component(i, 2)));
       if (n.norm() > 0) n.normalize();
     }
     Vertex& v = p.vertices[i];
@@ -116,9 +117,7 @@ float LinearToSrgb(float l) {
   return l <= 0.0031308f ? 12.92f * l : 1.055f * std::pow(l, 1.0f / 2.4f) - 0.055f;
 }
 
-uint8_t LinearToSrgb8(float linear) {
-  return static_cast<uint8_t>(std::lround(LinearToSrgb(linear) * 255.0f));
-}
+uint8_t LinearToSrgb8(float linear) { return static_cast<uint8_t>(std::lround(LinearToSrgb(linear) * 255.0f)); }
 
 TextureMips BuildMips(std::vector<uint8_t> rgba, int width, int height) {
   TextureMips mips;
@@ -141,8 +140,8 @@ TextureMips BuildMips(std::vector<uint8_t> rgba, int width, int height) {
             dst[(static_cast<size_t>(y) * w2 + x) * 4 + c] =
                 static_cast<uint8_t>((at(x0, y0) + at(x1, y0) + at(x0, y1) + at(x1, y1) + 2) / 4);
           } else {
-            const float mean = 0.25f * (to_linear[at(x0, y0)] + to_linear[at(x1, y0)] + to_linear[at(x0, y1)] +
-                                        to_linear[at(x1, y1)]);
+            const float mean =
+                0.25f * (to_linear[at(x0, y0)] + to_linear[at(x1, y0)] + to_linear[at(x0, y1)] + to_linear[at(x1, y1)]);
             dst[(static_cast<size_t>(y) * w2 + x) * 4 + c] = LinearToSrgb8(mean);
           }
         }

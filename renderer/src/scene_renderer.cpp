@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
-
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
@@ -31,7 +30,8 @@ struct PushConstants {
   glm::vec4 tanker_from_object_rows[3];  // rotation rows (xyz; w unused, 0)
   glm::vec4 base_color_factor;           // linear RGBA; .a carries the object id in the ground-truth pass
 };
-static_assert(offsetof(PushConstants, tanker_from_object_rows) == 64 && offsetof(PushConstants, base_color_factor) == 112,
+static_assert(offsetof(PushConstants, tanker_from_object_rows) == 64 &&
+                  offsetof(PushConstants, base_color_factor) == 112,
               "push constants must match the GLSL block's layout");
 static_assert(sizeof(PushConstants) == 128, "push constants must fit the guaranteed 128 bytes");
 
@@ -134,7 +134,8 @@ SceneRenderer::~SceneRenderer() {
 }
 
 void SceneRenderer::UploadTexture(const TextureMips& mips) {
-  if (texture_sets_.size() >= kMaxTextures) throw Error("too many textures (limit " + std::to_string(kMaxTextures) + ")");
+  if (texture_sets_.size() >= kMaxTextures)
+    throw Error("too many textures (limit " + std::to_string(kMaxTextures) + ")");
   VkDeviceSize total = 0;
   for (const auto& level : mips.levels) total += level.size();
   GpuBuffer staging(context_, total, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
@@ -198,8 +199,10 @@ int SceneRenderer::AddModel(const SceneModel& model) {
     gpu->indices = GpuBuffer(context_, index_count * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT, true);
     size_t v = 0, i = 0;
     for (const Primitive& p : model.primitives) {
-      std::memcpy(static_cast<Vertex*>(gpu->vertices.mapped()) + v, p.vertices.data(), p.vertices.size() * sizeof(Vertex));
-      std::memcpy(static_cast<uint32_t*>(gpu->indices.mapped()) + i, p.indices.data(), p.indices.size() * sizeof(uint32_t));
+      std::memcpy(static_cast<Vertex*>(gpu->vertices.mapped()) + v, p.vertices.data(),
+                  p.vertices.size() * sizeof(Vertex));
+      std::memcpy(static_cast<uint32_t*>(gpu->indices.mapped()) + i, p.indices.data(),
+                  p.indices.size() * sizeof(uint32_t));
       for (const Vertex& vertex : p.vertices) {
         gpu->bounds.extend(Eigen::Vector3d(vertex.position[0], vertex.position[1], vertex.position[2]));
       }
@@ -236,7 +239,8 @@ SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) 
     // Sky pixels outside the render area are filled with this value, read
     // back from a 1x1 render of nothing, so they equal rendered sky exactly.
     const PixelRect corner{0, 0, 1, 1};
-    context_.SubmitAndWait([&](VkCommandBuffer cmd) { Record(cmd, *slot, Eigen::Matrix4d::Identity(), {}, false, corner); });
+    context_.SubmitAndWait(
+        [&](VkCommandBuffer cmd) { Record(cmd, *slot, Eigen::Matrix4d::Identity(), {}, false, corner); });
     ReadBack(*slot, corner);
     const auto* half = static_cast<const Eigen::half*>(readback_.mapped());
     for (int c = 0; c < 3; ++c) slot->background[c] = static_cast<float>(half[c]);
@@ -269,7 +273,8 @@ void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Mat
     const Eigen::Matrix4f clip_from_object = (clip_from_tanker * item.tanker_from_object.matrix()).cast<float>();
     pc.clip_from_object = glm::make_mat4(clip_from_object.data());
     const Eigen::Matrix3f r = item.tanker_from_object.linear().cast<float>();
-    for (int row = 0; row < 3; ++row) pc.tanker_from_object_rows[row] = glm::vec4(r(row, 0), r(row, 1), r(row, 2), 0.0f);
+    for (int row = 0; row < 3; ++row)
+      pc.tanker_from_object_rows[row] = glm::vec4(r(row, 0), r(row, 1), r(row, 2), 0.0f);
     const VkDeviceSize zero = 0;
     VkBuffer vertex_buffer = model.vertices.buffer();
     vkCmdBindVertexBuffers(cmd, 0, 1, &vertex_buffer, &zero);
@@ -294,24 +299,25 @@ void SceneRenderer::ReadBack(const Target& target, const PixelRect& area) {
     copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     copy.imageOffset = {area.x0, area.y0, 0};
     copy.imageExtent = {static_cast<uint32_t>(area.width()), static_cast<uint32_t>(area.height()), 1};
-    vkCmdCopyImageToBuffer(cmd, target.frame.Output().image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer(), 1,
-                           &copy);
+    vkCmdCopyImageToBuffer(cmd, target.frame.Output().image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer(),
+                           1, &copy);
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr,
-                         0, nullptr);
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr, 0,
+                         nullptr);
   });
 }
 
-PixelRect SceneRenderer::RenderArea(const Eigen::Matrix4d& clip_from_tanker, const std::vector<RenderItem>& items) const {
+PixelRect SceneRenderer::RenderArea(const Eigen::Matrix4d& clip_from_tanker,
+                                    const std::vector<RenderItem>& items) const {
   // Jitter moves the image by less than a pixel; 3 px of margin covers it and the rasterizer's rounding.
   constexpr int kMarginPx = 3;
   PixelRect area{width_, height_, 0, 0};
   for (const RenderItem& item : items) {
     const GpuModel& model = *models_.at(item.model);
-    const PixelRect r = ProjectedRect(clip_from_tanker * item.tanker_from_object.matrix(), model.bounds, width_,
-                                      height_, kMarginPx);
+    const PixelRect r =
+        ProjectedRect(clip_from_tanker * item.tanker_from_object.matrix(), model.bounds, width_, height_, kMarginPx);
     if (r.empty()) continue;
     area = {std::min(area.x0, r.x0), std::min(area.y0, r.y0), std::max(area.x1, r.x1), std::max(area.y1, r.y1)};
   }
@@ -333,7 +339,8 @@ LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, cons
   const float weight = 1.0f / static_cast<float>(plan.passes);
   for (const Vec2& jitter : plan.offsets_px) {
     auto start = std::chrono::steady_clock::now();
-    const Eigen::Matrix4d clip_from_tanker = ClipFromCamera(camera.intrinsics, near_m, jitter.x, jitter.y) * cam_from_tanker;
+    const Eigen::Matrix4d clip_from_tanker =
+        ClipFromCamera(camera.intrinsics, near_m, jitter.x, jitter.y) * cam_from_tanker;
     context_.SubmitAndWait([&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, items, false, area); });
     if (timings) timings->render_ms += MillisecondsSince(start);
     start = std::chrono::steady_clock::now();

@@ -44,10 +44,14 @@ void CheckOutputFolder(const std::filesystem::path& dir) {
 }
 
 nlohmann::json DeviceJson(const DeviceInfo& d) {
-  return {{"name", d.name},           {"driver_name", d.driver_name},
-          {"driver_info", d.driver_info}, {"api_version", d.api_version},
-          {"vendor_id", d.vendor_id}, {"device_id", d.device_id},
-          {"type", d.device_type},    {"standard_sample_locations", d.standard_sample_locations}};
+  return {{"name", d.name},
+          {"driver_name", d.driver_name},
+          {"driver_info", d.driver_info},
+          {"api_version", d.api_version},
+          {"vendor_id", d.vendor_id},
+          {"device_id", d.device_id},
+          {"type", d.device_type},
+          {"standard_sample_locations", d.standard_sample_locations}};
 }
 
 nlohmann::json MsaaJson(const MsaaPlan& plan) {
@@ -111,8 +115,8 @@ void WritePair(Session& session, const std::vector<RenderItem>& items, const std
     start = std::chrono::steady_clock::now();
     const std::string relative = dir + "/" + stem + "_left_depth.exr";
     sidecar.files["left_depth"] = FileRef{relative, WriteDepthExr(dataset / relative, truth)};
-    const std::string mask_png = EncodePng(cv::Mat(truth.height, truth.width, CV_8UC1,
-                                                   const_cast<uint8_t*>(truth.object_id.data())));
+    const std::string mask_png =
+        EncodePng(cv::Mat(truth.height, truth.width, CV_8UC1, const_cast<uint8_t*>(truth.object_id.data())));
     const std::string mask_relative = dir + "/" + stem + "_left_mask.png";
     WriteFileAtomic(dataset / mask_relative, mask_png);
     sidecar.files["left_mask"] = FileRef{mask_relative, Sha256Hex(mask_png)};
@@ -151,7 +155,8 @@ RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size
   return result;
 }
 
-nlohmann::json CommonHeader(const Session& session, const std::filesystem::path& dataset, const RenderJobOptions& options) {
+nlohmann::json CommonHeader(const Session& session, const std::filesystem::path& dataset,
+                            const RenderJobOptions& options) {
   const std::string rig_hash = CopyInput(dataset, options.rig, kRigName);
   WriteCalibration(dataset / kIdealCalibrationName, IdealCalibration(session.rig));
   return {{"schema", kDatasetSchema},
@@ -182,8 +187,8 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
 
   EnsureWritableDirectory(options.output);
   nlohmann::json header = CommonHeader(session, options.output, options);
-  header["inputs"]["receiver_model"] = {{"file", kReceiverModelName},
-                                        {"sha256", CopyInput(options.output, options.receiver_model, kReceiverModelName)}};
+  header["inputs"]["receiver_model"] = {
+      {"file", kReceiverModelName}, {"sha256", CopyInput(options.output, options.receiver_model, kReceiverModelName)}};
   header["inputs"]["tanker_model"] = {{"source", options.tanker_model.filename().string()},
                                       {"sha256", Sha256File(options.tanker_model)}};
   header["inputs"]["flight_path"] = {{"file", kFlightPathName},
@@ -227,11 +232,11 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   nlohmann::json header = CommonHeader(session, options.output, options);
   header["inputs"]["board_model"] = {{"source", options.board_model.filename().string()},
                                      {"sha256", Sha256File(options.board_model)}};
-  header["calib"] = {{"count", poses.size()},
-                     {"msaa", MsaaJson(session.plan)},
-                     {"texture_anisotropy", options.anisotropy},
-                     {"board", {{"inner_corners", {spec.inner_corners_x, spec.inner_corners_y}},
-                                {"square_m", spec.square_m}}}};
+  header["calib"] = {
+      {"count", poses.size()},
+      {"msaa", MsaaJson(session.plan)},
+      {"texture_anisotropy", options.anisotropy},
+      {"board", {{"inner_corners", {spec.inner_corners_x, spec.inner_corners_y}}, {"square_m", spec.square_m}}}};
   OpenManifest(options.output, header);
 
   return RunPairs(options, session, poses.size(), "calib", "calib x" + std::to_string(options.msaa), [&](size_t i) {

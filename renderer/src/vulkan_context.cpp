@@ -57,11 +57,21 @@ DeviceInfo DescribeDevice(VkPhysicalDevice device) {
   info.vendor_id = p.vendorID;
   info.device_id = p.deviceID;
   switch (p.deviceType) {
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: info.device_type = "cpu"; break;
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: info.device_type = "discrete-gpu"; break;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: info.device_type = "integrated-gpu"; break;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: info.device_type = "virtual-gpu"; break;
-    default: info.device_type = "other"; break;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+      info.device_type = "cpu";
+      break;
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+      info.device_type = "discrete-gpu";
+      break;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+      info.device_type = "integrated-gpu";
+      break;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+      info.device_type = "virtual-gpu";
+      break;
+    default:
+      info.device_type = "other";
+      break;
   }
   const VkSampleCountFlags counts = p.limits.framebufferColorSampleCounts & p.limits.framebufferDepthSampleCounts;
   for (int n = 1; n <= 64; n *= 2) {
@@ -84,22 +94,38 @@ std::vector<VkPhysicalDevice> EnumerateDevices(VkInstance instance) {
 
 const char* VkResultName(VkResult result) {
   switch (result) {
-    case VK_SUCCESS: return "VK_SUCCESS";
-    case VK_NOT_READY: return "VK_NOT_READY";
-    case VK_TIMEOUT: return "VK_TIMEOUT";
-    case VK_INCOMPLETE: return "VK_INCOMPLETE";
-    case VK_ERROR_OUT_OF_HOST_MEMORY: return "VK_ERROR_OUT_OF_HOST_MEMORY";
-    case VK_ERROR_OUT_OF_DEVICE_MEMORY: return "VK_ERROR_OUT_OF_DEVICE_MEMORY";
-    case VK_ERROR_INITIALIZATION_FAILED: return "VK_ERROR_INITIALIZATION_FAILED";
-    case VK_ERROR_DEVICE_LOST: return "VK_ERROR_DEVICE_LOST";
-    case VK_ERROR_MEMORY_MAP_FAILED: return "VK_ERROR_MEMORY_MAP_FAILED";
-    case VK_ERROR_LAYER_NOT_PRESENT: return "VK_ERROR_LAYER_NOT_PRESENT";
-    case VK_ERROR_EXTENSION_NOT_PRESENT: return "VK_ERROR_EXTENSION_NOT_PRESENT";
-    case VK_ERROR_FEATURE_NOT_PRESENT: return "VK_ERROR_FEATURE_NOT_PRESENT";
-    case VK_ERROR_INCOMPATIBLE_DRIVER: return "VK_ERROR_INCOMPATIBLE_DRIVER";
-    case VK_ERROR_TOO_MANY_OBJECTS: return "VK_ERROR_TOO_MANY_OBJECTS";
-    case VK_ERROR_FORMAT_NOT_SUPPORTED: return "VK_ERROR_FORMAT_NOT_SUPPORTED";
-    default: return "VK_ERROR_(other)";
+    case VK_SUCCESS:
+      return "VK_SUCCESS";
+    case VK_NOT_READY:
+      return "VK_NOT_READY";
+    case VK_TIMEOUT:
+      return "VK_TIMEOUT";
+    case VK_INCOMPLETE:
+      return "VK_INCOMPLETE";
+    case VK_ERROR_OUT_OF_HOST_MEMORY:
+      return "VK_ERROR_OUT_OF_HOST_MEMORY";
+    case VK_ERROR_OUT_OF_DEVICE_MEMORY:
+      return "VK_ERROR_OUT_OF_DEVICE_MEMORY";
+    case VK_ERROR_INITIALIZATION_FAILED:
+      return "VK_ERROR_INITIALIZATION_FAILED";
+    case VK_ERROR_DEVICE_LOST:
+      return "VK_ERROR_DEVICE_LOST";
+    case VK_ERROR_MEMORY_MAP_FAILED:
+      return "VK_ERROR_MEMORY_MAP_FAILED";
+    case VK_ERROR_LAYER_NOT_PRESENT:
+      return "VK_ERROR_LAYER_NOT_PRESENT";
+    case VK_ERROR_EXTENSION_NOT_PRESENT:
+      return "VK_ERROR_EXTENSION_NOT_PRESENT";
+    case VK_ERROR_FEATURE_NOT_PRESENT:
+      return "VK_ERROR_FEATURE_NOT_PRESENT";
+    case VK_ERROR_INCOMPATIBLE_DRIVER:
+      return "VK_ERROR_INCOMPATIBLE_DRIVER";
+    case VK_ERROR_TOO_MANY_OBJECTS:
+      return "VK_ERROR_TOO_MANY_OBJECTS";
+    case VK_ERROR_FORMAT_NOT_SUPPORTED:
+      return "VK_ERROR_FORMAT_NOT_SUPPORTED";
+    default:
+      return "VK_ERROR_(other)";
   }
 }
 
@@ -119,7 +145,8 @@ VulkanContext::VulkanContext(const VulkanContextOptions& options) {
   instance_ = CreateInstance(options.validation);
   try {
     const std::vector<VkPhysicalDevice> devices = EnumerateDevices(instance_);
-    if (devices.empty()) throw Error("no Vulkan device found (install mesa-vulkan-drivers for the lavapipe CPU device)");
+    if (devices.empty())
+      throw Error("no Vulkan device found (install mesa-vulkan-drivers for the lavapipe CPU device)");
     std::string filter = options.device_filter;
     if (filter.empty()) {
       if (const char* env = std::getenv("AAR_VK_DEVICE")) filter = env;

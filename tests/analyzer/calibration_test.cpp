@@ -1,20 +1,20 @@
 #include "aar/analyzer/calibration.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iostream>
-
-#include <gtest/gtest.h>
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "../test_support.h"
 #include "aar/error.h"
 #include "aar/pose.h"
 #include "aar/rig.h"
-#include "../test_support.h"
 
 namespace aar {
 namespace {
@@ -48,10 +48,10 @@ Eigen::Isometry3d LeftFromBoard(const BoardView& view, const BoardSpec& board) {
 /// 12 views at 14-22 m, tilted 20-30 degrees, inside both images.
 std::vector<BoardView> TestViews() {
   return {
-      {{0.0, 0.0, 14.0}, 25, 0, 0},      {{0.0, 0.0, 14.5}, -25, 0, 0},   {{0.3, 0.0, 15.0}, 0, 25, 0},
-      {{-0.3, 0.0, 15.0}, 0, -25, 0},    {{0.5, 0.3, 17.0}, 20, 20, 5},   {{-0.5, -0.3, 17.0}, -20, -20, -5},
-      {{1.0, -0.5, 18.0}, 20, -20, 0},   {{-1.0, 0.5, 18.0}, -20, 20, 0}, {{1.5, -1.0, 20.0}, 30, 10, 0},
-      {{-1.5, 1.0, 20.0}, -10, 30, 0},   {{2.0, 1.5, 22.0}, -30, -10, 8}, {{-2.0, -1.5, 22.0}, 10, -30, -8},
+      {{0.0, 0.0, 14.0}, 25, 0, 0},    {{0.0, 0.0, 14.5}, -25, 0, 0},   {{0.3, 0.0, 15.0}, 0, 25, 0},
+      {{-0.3, 0.0, 15.0}, 0, -25, 0},  {{0.5, 0.3, 17.0}, 20, 20, 5},   {{-0.5, -0.3, 17.0}, -20, -20, -5},
+      {{1.0, -0.5, 18.0}, 20, -20, 0}, {{-1.0, 0.5, 18.0}, -20, 20, 0}, {{1.5, -1.0, 20.0}, 30, 10, 0},
+      {{-1.5, 1.0, 20.0}, -10, 30, 0}, {{2.0, 1.5, 22.0}, -30, -10, 8}, {{-2.0, -1.5, 22.0}, 10, -30, -8},
   };
 }
 
@@ -106,16 +106,18 @@ cv::Mat RenderBoard(const Eigen::Isometry3d& cam_from_board, const Intrinsics& k
   for (int v = 0; v < k.height_px; ++v) {
     for (int u = 0; u < k.width_px; ++u) {
       const int id = corner_cells.at<int>(v, u);
-      const bool uniform = id == corner_cells.at<int>(v, u + 1) && id == corner_cells.at<int>(v + 1, u) &&
-                           id == corner_cells.at<int>(v + 1, u + 1) &&
-                           std::find(outline_pixels.begin(), outline_pixels.end(), cv::Point(u, v)) == outline_pixels.end();
+      const bool uniform =
+          id == corner_cells.at<int>(v, u + 1) && id == corner_cells.at<int>(v + 1, u) &&
+          id == corner_cells.at<int>(v + 1, u + 1) &&
+          std::find(outline_pixels.begin(), outline_pixels.end(), cv::Point(u, v)) == outline_pixels.end();
       if (uniform) {
         gray.at<uchar>(v, u) = static_cast<uchar>(colour(id));
         continue;
       }
       int sum = 0;
       for (int sy = 0; sy < kSuper; ++sy) {
-        for (int sx = 0; sx < kSuper; ++sx) sum += colour(cell(u - 0.5 + (sx + 0.5) / kSuper, v - 0.5 + (sy + 0.5) / kSuper));
+        for (int sx = 0; sx < kSuper; ++sx)
+          sum += colour(cell(u - 0.5 + (sx + 0.5) / kSuper, v - 0.5 + (sy + 0.5) / kSuper));
       }
       gray.at<uchar>(v, u) = static_cast<uchar>((sum + kSuper * kSuper / 2) / (kSuper * kSuper));
     }
@@ -190,7 +192,8 @@ TEST(Calibration, CornersAreSubpixelAccurateAndInBoardOrder) {
     for (int j = 0; j < board.inner_corners_y; ++j) {
       for (int i = 0; i < board.inner_corners_x; ++i) {
         const size_t c = static_cast<size_t>(j) * board.inner_corners_x + i;
-        const cv::Point2d truth_l = ProjectBoardPoint(set.left_from_board[p], set.rig.left.intrinsics, 0.5 * i, 0.5 * j);
+        const cv::Point2d truth_l =
+            ProjectBoardPoint(set.left_from_board[p], set.rig.left.intrinsics, 0.5 * i, 0.5 * j);
         const cv::Point2d truth_r = ProjectBoardPoint(right_from_board, set.rig.right.intrinsics, 0.5 * i, 0.5 * j);
         const double el = cv::norm(cv::Point2d(d.left_corners[c]) - truth_l);
         const double er = cv::norm(cv::Point2d(d.right_corners[c]) - truth_r);
@@ -269,8 +272,8 @@ TEST(Calibration, EstimatingDistortionStillRecoversTheRig) {
   CalibrationOptions options;
   options.fix_distortion = false;
   std::vector<PairDetection> detections = SyntheticCalibration().pairs;  // same corners, no re-detection
-  const CalibrationResult r = CalibrateFromDetections(detections, cv::Size(1024, 768), options,
-                                                      IdealCalibration(Synthetic().rig), "images");
+  const CalibrationResult r =
+      CalibrateFromDetections(detections, cv::Size(1024, 768), options, IdealCalibration(Synthetic().rig), "images");
   ASSERT_TRUE(r.versus_ideal.has_value());
   EXPECT_LT(std::abs(r.versus_ideal->focal_error_percent), 1.0);
   EXPECT_LT(std::abs(r.versus_ideal->baseline_error_percent), 1.0);
@@ -280,10 +283,10 @@ TEST(Calibration, EstimatingDistortionStillRecoversTheRig) {
 TEST(Calibration, QPercentErrorIsElementwiseAndZeroWhereIdealIsZero) {
   const cv::Mat ideal = (cv::Mat_<double>(4, 4) << 1, 0, 0, -500, 0, 1, 0, -400, 0, 0, 0, 900, 0, 0, 2, 0);
   cv::Mat q = ideal.clone();
-  q.at<double>(0, 3) = -505;   // 1 %
-  q.at<double>(2, 3) = 891;    // 1 %
-  q.at<double>(3, 2) = 2.1;    // 5 %
-  q.at<double>(3, 3) = 0.01;   // ideal 0: reported as 0
+  q.at<double>(0, 3) = -505;  // 1 %
+  q.at<double>(2, 3) = 891;   // 1 %
+  q.at<double>(3, 2) = 2.1;   // 5 %
+  q.at<double>(3, 3) = 0.01;  // ideal 0: reported as 0
   const cv::Mat e = QPercentError(q, ideal);
   ASSERT_EQ(e.type(), CV_64F);
   EXPECT_NEAR(e.at<double>(0, 3), 1.0, 1e-12);
@@ -316,7 +319,8 @@ TEST(Calibration, TooFewBoardsIsAnErrorNamingTheCount) {
 /// A minimal dataset folder with `count` calibration pairs from the synthetic set.
 void WriteDataset(const std::filesystem::path& dir, size_t count) {
   std::filesystem::create_directories(dir / kCalibDir);
-  nlohmann::json manifest = {{"schema", kDatasetSchema}, {"calib", {{"count", count}}}, {"files", nlohmann::json::object()}};
+  nlohmann::json manifest = {
+      {"schema", kDatasetSchema}, {"calib", {{"count", count}}}, {"files", nlohmann::json::object()}};
   WriteJsonFile(dir / kManifestName, manifest);
   WriteCalibration(dir / kIdealCalibrationName, IdealCalibration(Synthetic().rig));
   for (size_t i = 0; i < count; ++i) {

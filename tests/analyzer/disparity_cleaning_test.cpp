@@ -1,9 +1,10 @@
 // Halo removal and the matcher rounding bias.
 
+#include "aar/analyzer/disparity_cleaning.h"
+
 #include <gtest/gtest.h>
 
 #include "aar/analyzer/disparity.h"
-#include "aar/analyzer/disparity_cleaning.h"
 #include "aar/analyzer/frame_analysis.h"
 
 namespace aar {
@@ -25,8 +26,8 @@ TEST(HaloRemoval, RemovesTheRingNextToInvalidPixelsAndKeepsTheInterior) {
 }
 
 TEST(HaloRemoval, RemovesBothSidesOfADisparityJump) {
-  cv::Mat d(60, 60, CV_16S, cv::Scalar(32));          // background, 2 px
-  d(cv::Rect(0, 0, 30, 60)).setTo(cv::Scalar(160));   // foreground, 10 px, on the left
+  cv::Mat d(60, 60, CV_16S, cv::Scalar(32));         // background, 2 px
+  d(cv::Rect(0, 0, 30, 60)).setTo(cv::Scalar(160));  // foreground, 10 px, on the left
   HaloRemovalOptions options;
   options.radius_px = 3;
   RemoveHalo(d, kInvalid16, options);

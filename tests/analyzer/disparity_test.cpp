@@ -1,10 +1,10 @@
 #include "aar/analyzer/disparity.h"
 
-#include <algorithm>
-#include <random>
-
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <opencv2/imgproc.hpp>
+#include <random>
 
 #include "aar/error.h"
 #include "aar/rig.h"
@@ -63,7 +63,8 @@ void ExpectRecoversShift(const DisparityOptions& options, double shift_px, doubl
   EXPECT_GT(valid, area * 8 / 10) << "too few valid disparities";
   EXPECT_NEAR(median, shift_px, tolerance_px) << "shift " << shift_px;
   // The float view is the fixed-point map / 16.
-  EXPECT_FLOAT_EQ(map.disparity.at<float>(kHeight / 2, kWidth / 2), map.disparity16.at<short>(kHeight / 2, kWidth / 2) / 16.0f);
+  EXPECT_FLOAT_EQ(map.disparity.at<float>(kHeight / 2, kWidth / 2),
+                  map.disparity16.at<short>(kHeight / 2, kWidth / 2) / 16.0f);
 }
 
 TEST(Disparity, BlockMatchingRecoversIntegerShift) { ExpectRecoversShift(DisparityOptions{}, 17.0); }

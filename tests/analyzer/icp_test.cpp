@@ -2,6 +2,11 @@
 // aircraft-like mesh, a stored ground-truth transform, seeded noise and
 // outliers, forward and inverse alignment with explicit tolerances.
 
+#include "aar/analyzer/icp.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -9,15 +14,11 @@
 #include <iostream>
 #include <random>
 
-#include <Eigen/Geometry>
-#include <gtest/gtest.h>
-
-#include "test_meshes.h"
-#include "aar/analyzer/icp.h"
 #include "aar/analyzer/mesh.h"
 #include "aar/analyzer/reference_model.h"
 #include "aar/error.h"
 #include "aar/pose.h"
+#include "test_meshes.h"
 
 namespace aar {
 namespace {

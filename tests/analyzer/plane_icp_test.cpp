@@ -1,14 +1,15 @@
 // Robust noise-weighted point-to-plane ICP on synthetic clouds.
 
-#include <random>
+#include "aar/analyzer/plane_icp.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "test_meshes.h"
-#include "aar/analyzer/plane_icp.h"
+#include <Eigen/Geometry>
+#include <random>
+
 #include "aar/analyzer/reference_model.h"
 #include "aar/error.h"
+#include "test_meshes.h"
 
 namespace aar {
 namespace {

@@ -1,15 +1,16 @@
 // Per-frame records, the results CSV, shard merging and the thesis's
 // statistics (mean absolute error, RMS error eq. 4, ICP time mean and std).
 
-#include <cmath>
-#include <filesystem>
-#include <string>
-#include <unistd.h>
+#include "aar/analyzer/pose_statistics.h"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
+#include <unistd.h>
 
-#include "aar/analyzer/pose_statistics.h"
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
 #include "aar/error.h"
 #include "aar/file_io.h"
 #include "aar/text.h"

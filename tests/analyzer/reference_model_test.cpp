@@ -1,25 +1,26 @@
 // Receiver mesh loading, surface sampling, the shelled model's visibility
 // test and PLY files.
 
-#include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <string>
+#include "aar/analyzer/reference_model.h"
+
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <Eigen/Geometry>
-#include <gtest/gtest.h>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "../test_support.h"
-#include "test_meshes.h"
 #include "aar/analyzer/mesh.h"
 #include "aar/analyzer/ply.h"
-#include "aar/analyzer/reference_model.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
 #include "aar/pose.h"
 #include "aar/rig.h"
+#include "test_meshes.h"
 
 namespace aar {
 namespace {

@@ -1,9 +1,9 @@
 #include "aar/analyzer/reprojection.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstring>
-
-#include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>
 
 #include "aar/error.h"
@@ -21,7 +21,6 @@ ReprojectionOptions PlainOptions() {
   options.disparity_offset_px = 0.0;
   return options;
 }
-
 
 StereoRig TestRig() { return LoadRig(std::filesystem::path(AAR_SOURCE_DIR) / "scenes" / "rig.json"); }
 
@@ -67,7 +66,8 @@ TEST(Reprojection, SlantedPlaneStaysOnItsPlaneInTheTankerFrame) {
   const double a = 0.02, bb = -0.015, c0 = 6.0;
   cv::Mat disparity(kHeight, kWidth, CV_16S);
   for (int v = 0; v < kHeight; ++v) {
-    for (int u = 0; u < kWidth; ++u) disparity.at<short>(v, u) = static_cast<short>(std::lround(16 * (a * u + bb * v + c0)));
+    for (int u = 0; u < kWidth; ++u)
+      disparity.at<short>(v, u) = static_cast<short>(std::lround(16 * (a * u + bb * v + c0)));
   }
   ReprojectionOptions options = PlainOptions();
   options.keep_one_in = 1;
@@ -90,15 +90,15 @@ TEST(Reprojection, DropsInvalidBehindAndBeyondMaxDepthThenKeepsOneInEight) {
   const StereoRig rig = TestRig();
   const StereoCalibration c = IdealCalibration(rig);
   const double fb = rig.left.intrinsics.fx_px * rig.Baseline();  // 450 px m
-  cv::Mat disparity(kHeight, kWidth, CV_16S, cv::Scalar(160));    // 10 px -> 45 m
+  cv::Mat disparity(kHeight, kWidth, CV_16S, cv::Scalar(160));   // 10 px -> 45 m
   size_t expected_valid = static_cast<size_t>(kWidth) * kHeight;
   auto set = [&](int v, int u, short value) {
     disparity.at<short>(v, u) = value;
     --expected_valid;
   };
-  for (int u = 0; u < kWidth; u += 3) set(0, u, kInvalid16);     // invalid marker
-  for (int u = 1; u < kWidth; u += 3) set(1, u, -8);             // negative: behind the camera
-  for (int u = 2; u < kWidth; u += 3) set(2, u, 0);              // zero: at infinity (W = 0)
+  for (int u = 0; u < kWidth; u += 3) set(0, u, kInvalid16);             // invalid marker
+  for (int u = 1; u < kWidth; u += 3) set(1, u, -8);                     // negative: behind the camera
+  for (int u = 2; u < kWidth; u += 3) set(2, u, 0);                      // zero: at infinity (W = 0)
   const short beyond = static_cast<short>(std::floor(16 * fb / 750.0));  // depth > 750 m
   ASSERT_GT(fb / (beyond / 16.0), 750.0);
   for (int u = 0; u < kWidth; u += 2) set(3, u, beyond);
@@ -127,7 +127,8 @@ TEST(Reprojection, MatchesReprojectImageTo3DAndUndoesRectification) {
   // A calibration with a rotated rectification: point_in_left = R1^T point_in_rect_left.
   StereoCalibration c = IdealCalibration(TestRig());
   const Eigen::Matrix3d r1 = RotationFromRollPitchYaw(2.0, -3.0, 1.5);
-  c.R1 = (cv::Mat_<double>(3, 3) << r1(0, 0), r1(0, 1), r1(0, 2), r1(1, 0), r1(1, 1), r1(1, 2), r1(2, 0), r1(2, 1), r1(2, 2));
+  c.R1 = (cv::Mat_<double>(3, 3) << r1(0, 0), r1(0, 1), r1(0, 2), r1(1, 0), r1(1, 1), r1(1, 2), r1(2, 0), r1(2, 1),
+          r1(2, 2));
   c.Q.at<double>(0, 3) = -500.25;  // off-centre principal point, non-square-ish Q
   cv::Mat disparity(kHeight, kWidth, CV_16S);
   cv::RNG rng(7);
@@ -157,7 +158,8 @@ TEST(Reprojection, IsBitwiseRepeatable) {
   const SensedCloud b = Reproject(disparity, kInvalid16, c, rig.left.tanker_from_camera, PlainOptions());
   ASSERT_EQ(a.kept_count, b.kept_count);
   ASSERT_GT(a.kept_count, 0u);
-  EXPECT_EQ(0, std::memcmp(a.points_in_tanker.data(), b.points_in_tanker.data(), a.kept_count * sizeof(Eigen::Vector3d)));
+  EXPECT_EQ(0,
+            std::memcmp(a.points_in_tanker.data(), b.points_in_tanker.data(), a.kept_count * sizeof(Eigen::Vector3d)));
 }
 
 TEST(Reprojection, DisparityOffsetIsSubtractedBeforeEquationOne) {

@@ -2,6 +2,7 @@
 // committed CSV files they produce, and aar::ReadFlightPath's error reporting.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,8 +11,6 @@
 #include <map>
 #include <string>
 #include <vector>
-
-#include <unistd.h>
 
 #include "aar/error.h"
 #include "aar/file_io.h"

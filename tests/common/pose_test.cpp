@@ -1,6 +1,7 @@
+#include "aar/pose.h"
+
 #include <gtest/gtest.h>
 
-#include "aar/pose.h"
 #include "aar/region.h"
 
 namespace aar {

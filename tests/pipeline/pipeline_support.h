@@ -40,7 +40,8 @@ inline constexpr size_t kNearContactFrames = 8;
 const PipelineDatasets& SharedDatasets();
 
 /// Fails the current test when the shared datasets could not be rendered.
-#define ASSERT_DATASETS() ASSERT_TRUE(::aar::test::SharedDatasets().error.empty()) << ::aar::test::SharedDatasets().error
+#define ASSERT_DATASETS() \
+  ASSERT_TRUE(::aar::test::SharedDatasets().error.empty()) << ::aar::test::SharedDatasets().error
 
 /// Paths of the executables under test.
 std::filesystem::path RenderExe();

@@ -45,7 +45,8 @@ TEST_P(RenderBadInput, FailsWithOneClearMessageAndWritesNothing) {
   WriteFileAtomic(dir / "a-file", "x");
   std::string flags = c.extra_flags;
   for (const auto& [key, value] : {std::pair<std::string, std::string>{"@DIR@", dir.path().string()}}) {
-    for (size_t at = flags.find(key); at != std::string::npos; at = flags.find(key)) flags.replace(at, key.size(), value);
+    for (size_t at = flags.find(key); at != std::string::npos; at = flags.find(key))
+      flags.replace(at, key.size(), value);
   }
   const std::filesystem::path out = dir / "out";
   const std::string command = c.env + " " + test::BinaryPath("renderer/aar-render").string() + " render " +
@@ -87,12 +88,11 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(RenderBadOutput, UnwritableOutputFolderFailsCleanly) {
   TempDir dir("bad-output");
   WriteFileAtomic(dir / "a-file", "x");
-  const std::string command = test::BinaryPath("renderer/aar-render").string() + " render " +
-                              (dir / "a-file/out").string() + " --no-progress --frames 0:1 --msaa 1 --rig " +
-                              SourcePath("scenes/rig.json").string() + " --receiver " +
-                              SourcePath("scenes/c12.glb").string() + " --tanker " +
-                              SourcePath("scenes/kc46.glb").string() + " --flight-path " +
-                              SourcePath("flightpaths/conops.csv").string();
+  const std::string command =
+      test::BinaryPath("renderer/aar-render").string() + " render " + (dir / "a-file/out").string() +
+      " --no-progress --frames 0:1 --msaa 1 --rig " + SourcePath("scenes/rig.json").string() + " --receiver " +
+      SourcePath("scenes/c12.glb").string() + " --tanker " + SourcePath("scenes/kc46.glb").string() +
+      " --flight-path " + SourcePath("flightpaths/conops.csv").string();
   const test::CommandResult result = RunCommand(command);
   EXPECT_NE(result.exit_code, 0);
   EXPECT_NE(result.output.find("a-file/out: cannot create output folder"), std::string::npos) << result.output;
@@ -106,11 +106,10 @@ TEST(RenderCommandLine, HelpListsSubcommandsAndTheirFlags) {
   const std::string render = test::BinaryPath("renderer/aar-render").string();
   const test::CommandResult top = RunCommand(render + " --help");
   EXPECT_EQ(top.exit_code, 0) << top.output;
-  for (const char* line : {"render                      render a flight path",
-                           "calib                       render the calibration board",
-                           "finalize                    recompute manifest.json",
-                           "devices                     list the Vulkan devices",
-                           "bench                       time stereo pairs per second"}) {
+  for (const char* line :
+       {"render                      render a flight path", "calib                       render the calibration board",
+        "finalize                    recompute manifest.json", "devices                     list the Vulkan devices",
+        "bench                       time stereo pairs per second"}) {
     EXPECT_NE(top.output.find(line), std::string::npos) << line << "\n" << top.output;
   }
   const test::CommandResult sub = RunCommand(render + " render --help");

@@ -1,10 +1,11 @@
+#include "aar/renderer/msaa.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <set>
 
 #include "aar/error.h"
-#include "aar/renderer/msaa.h"
 
 namespace aar {
 namespace {

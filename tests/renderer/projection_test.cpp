@@ -1,7 +1,8 @@
+#include "aar/renderer/projection.h"
+
 #include <gtest/gtest.h>
 
 #include "aar/renderer/calib_poses.h"
-#include "aar/renderer/projection.h"
 
 namespace aar {
 namespace {

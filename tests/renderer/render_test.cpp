@@ -2,14 +2,13 @@
 // projection accuracy against OpenCV, determinism, MSAA composition, resume
 // and sharding.
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
-#include <set>
-
-#include <OpenImageIO/imageio.h>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 
 #include "../test_support.h"
 #include "aar/dataset.h"
@@ -118,15 +117,15 @@ TEST(Render, CalibrationCornersMatchProjectionAtX16) {
       const Camera& cam = std::string(side) == "left" ? s.rig.left : s.rig.right;
       const cv::Mat gray = cv::imread((o.output / s.files.at(side).path).string(), cv::IMREAD_GRAYSCALE);
       std::vector<cv::Point2f> corners;
-      ASSERT_TRUE(cv::findChessboardCorners(gray, cv::Size(16, 17), corners,
-                                            cv::CALIB_CB_ADAPTIVE_THRESH))
+      ASSERT_TRUE(cv::findChessboardCorners(gray, cv::Size(16, 17), corners, cv::CALIB_CB_ADAPTIVE_THRESH))
           << s.files.at(side).path;
       cv::cornerSubPix(gray, corners, cv::Size(11, 11), cv::Size(-1, -1),
                        cv::TermCriteria(cv::TermCriteria::EPS | cv::TermCriteria::COUNT, 100, 1e-4));
       std::vector<cv::Point3f> object;
       for (int j = 0; j < 17; ++j)
         for (int k = 0; k < 16; ++k) object.emplace_back(0.5f * k, 0.5f * j, 0.0f);
-      const Eigen::Isometry3d cam_from_board = cam.tanker_from_camera.inverse() * IsometryFromPose(s.tanker_from_target);
+      const Eigen::Isometry3d cam_from_board =
+          cam.tanker_from_camera.inverse() * IsometryFromPose(s.tanker_from_target);
       cv::Mat r(3, 3, CV_64F), rvec, tvec(3, 1, CV_64F);
       for (int a = 0; a < 3; ++a) {
         tvec.at<double>(a) = cam_from_board.translation()(a);

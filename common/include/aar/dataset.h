@@ -15,11 +15,10 @@
 #include <cstddef>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "aar/pose.h"
 #include "aar/rig.h"
@@ -54,15 +53,15 @@ struct FileRef {
 struct FrameSidecar {
   std::string kind = "frame";
   size_t index = 0;
-  double time_s = 0.0;                    ///< flight-path time (frames only)
-  Pose tanker_from_target;                ///< tanker_from_receiver or tanker_from_board
-  double range_m = 0.0;                   ///< left camera centre to target origin [m]
-  std::string region = "none";            ///< A, B, C or none (frames only)
-  double in_view_left = 0.0;              ///< fraction of target model vertices inside the left image
-  double in_view_right = 0.0;             ///< same for the right image
-  StereoRig rig;                          ///< ideal intrinsics and extrinsics
-  std::optional<BoardSpec> board;         ///< calib only
-  std::map<std::string, FileRef> files;   ///< "left", "right", optional "left_depth"
+  double time_s = 0.0;                   ///< flight-path time (frames only)
+  Pose tanker_from_target;               ///< tanker_from_receiver or tanker_from_board
+  double range_m = 0.0;                  ///< left camera centre to target origin [m]
+  std::string region = "none";           ///< A, B, C or none (frames only)
+  double in_view_left = 0.0;             ///< fraction of target model vertices inside the left image
+  double in_view_right = 0.0;            ///< same for the right image
+  StereoRig rig;                         ///< ideal intrinsics and extrinsics
+  std::optional<BoardSpec> board;        ///< calib only
+  std::map<std::string, FileRef> files;  ///< "left", "right", optional "left_depth"
 };
 
 /// Zero-padded frame stem, e.g. 12 -> "000012".
@@ -82,9 +81,9 @@ bool SidecarVerified(const std::filesystem::path& dataset, const std::filesystem
 /// The parts of manifest.json that readers need; `json` holds all of it.
 struct Manifest {
   std::string schema;
-  size_t frame_count = 0;        ///< flight-path frames (0 when none were rendered)
-  size_t calib_pair_count = 0;   ///< calibration pairs (0 when none were rendered)
-  bool complete = false;         ///< every frame and pair present and hashed in `files`
+  size_t frame_count = 0;                    ///< flight-path frames (0 when none were rendered)
+  size_t calib_pair_count = 0;               ///< calibration pairs (0 when none were rendered)
+  bool complete = false;                     ///< every frame and pair present and hashed in `files`
   std::map<std::string, std::string> files;  ///< relative path -> SHA-256
   nlohmann::json json;
 };

@@ -12,10 +12,10 @@
 namespace aar {
 
 struct FrameSelection {
-  size_t begin = 0;                 ///< first frame (inclusive)
+  size_t begin = 0;                      ///< first frame (inclusive)
   size_t end = static_cast<size_t>(-1);  ///< last frame (exclusive); -1 = to the end
-  size_t shard_index = 0;           ///< K in K/N
-  size_t shard_count = 1;           ///< N in K/N
+  size_t shard_index = 0;                ///< K in K/N
+  size_t shard_count = 1;                ///< N in K/N
 
   /// The selected frame indices among `frame_count`, ascending.
   std::vector<size_t> Select(size_t frame_count) const;

@@ -3,12 +3,12 @@
 // checked; shared by the renderer's and the analyzer's model loaders, next to
 // the scene walker (gltf_scene.h).
 
+#include <tiny_gltf.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <tiny_gltf.h>
 
 namespace aar {
 

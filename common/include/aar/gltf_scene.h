@@ -3,11 +3,11 @@
 // body axes (docs/frames.md); shared by the renderer's and the analyzer's
 // model loaders.
 
-#include <functional>
-#include <string>
+#include <tiny_gltf.h>
 
 #include <Eigen/Core>
-#include <tiny_gltf.h>
+#include <functional>
+#include <string>
 
 namespace aar {
 

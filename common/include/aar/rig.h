@@ -2,11 +2,10 @@
 // The stereo rig (scenes/rig.json, docs/frames.md): two pinhole cameras with
 // no distortion, each with its pose tanker_from_camera.
 
-#include <filesystem>
-#include <optional>
-
 #include <Eigen/Geometry>
+#include <filesystem>
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 
 namespace aar {
 
@@ -32,8 +31,8 @@ struct Camera {
 struct StereoRig {
   Camera left;
   Camera right;
-  double near_m = 0.5;                                              ///< near clip plane [m]
-  Eigen::Vector3d contact_position_m = Eigen::Vector3d::Zero();     ///< receiver contact position in the tanker frame [m]
+  double near_m = 0.5;                                           ///< near clip plane [m]
+  Eigen::Vector3d contact_position_m = Eigen::Vector3d::Zero();  ///< receiver contact position in the tanker frame [m]
 
   /// right_from_left: OpenCV stereoCalibrate's (R, T).
   Eigen::Isometry3d RightFromLeft() const;

@@ -6,7 +6,6 @@
 // in the rectified left image to homogeneous points in the rect_left frame.
 
 #include <filesystem>
-
 #include <opencv2/core.hpp>
 
 #include "aar/rig.h"

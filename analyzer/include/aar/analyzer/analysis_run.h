@@ -5,11 +5,10 @@
 // the per-frame CSV and the per-region summary (docs/analysis.md).
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "aar/analyzer/calibration.h"
 #include "aar/analyzer/frame_analysis.h"
@@ -52,11 +51,11 @@ struct AnalysisRunOptions {
   std::optional<std::filesystem::path> receiver_model;  ///< none = DATASET/receiver.glb
   ReferenceRequest reference;
   CalibrationOptions calibration_options;
-  Preset preset = Preset::kDefault;                     ///< recorded in run.json; `frame` holds its options
+  Preset preset = Preset::kDefault;  ///< recorded in run.json; `frame` holds its options
   FrameAnalysisOptions frame;
   FrameSelection selection;
-  bool progress = true;                                 ///< progress line and per-frame failures on stderr
-  bool write_outputs = true;                            ///< false for `bench`: time only
+  bool progress = true;       ///< progress line and per-frame failures on stderr
+  bool write_outputs = true;  ///< false for `bench`: time only
 };
 
 struct AnalysisRunResult {

@@ -13,11 +13,10 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "aar/dataset.h"
 #include "aar/stereo_calibration.h"
@@ -25,15 +24,19 @@
 namespace aar {
 
 struct CalibrationOptions {
-  BoardSpec board;  ///< board geometry (thesis 3.3: 16x17 inner corners, 0.5 m squares); a calib sidecar's "board" overrides it in CalibrateFromDataset
+  BoardSpec board;  ///< board geometry (thesis 3.3: 16x17 inner corners, 0.5 m squares); a calib sidecar's "board"
+                    ///< overrides it in CalibrateFromDataset
 
   // Corner detection (cv::findChessboardCorners, then cv::cornerSubPix).
   bool adaptive_threshold = true;  ///< CALIB_CB_ADAPTIVE_THRESH
-  bool normalize_image = false;    ///< CALIB_CB_NORMALIZE_IMAGE (histogram equalisation); off: on renders of steeply tilted boards it makes detection fail (aar-render calib pairs 5 and 11)
-  bool fast_check = false;         ///< CALIB_CB_FAST_CHECK: only speeds up rejecting images without a board; off because it can reject hard views
-  int subpix_half_window_px = 5;   ///< cornerSubPix winSize (half the side): 5 -> an 11x11 window [px]; must stay below the smallest imaged square
-  int subpix_max_iterations = 100; ///< cornerSubPix termination: iterations (OpenCV samples use 30)
-  double subpix_epsilon_px = 1e-4; ///< cornerSubPix termination: corner movement [px] (OpenCV samples use 0.001)
+  bool normalize_image = false;    ///< CALIB_CB_NORMALIZE_IMAGE (histogram equalisation); off: on renders of steeply
+                                   ///< tilted boards it makes detection fail (aar-render calib pairs 5 and 11)
+  bool fast_check = false;  ///< CALIB_CB_FAST_CHECK: only speeds up rejecting images without a board; off because it
+                            ///< can reject hard views
+  int subpix_half_window_px = 5;  ///< cornerSubPix winSize (half the side): 5 -> an 11x11 window [px]; must stay below
+                                  ///< the smallest imaged square
+  int subpix_max_iterations = 100;  ///< cornerSubPix termination: iterations (OpenCV samples use 30)
+  double subpix_epsilon_px = 1e-4;  ///< cornerSubPix termination: corner movement [px] (OpenCV samples use 0.001)
 
   // Calibration model. Both cameras are first calibrated alone (Zhang), then
   // stereoCalibrate refines (R, T) starting from those intrinsics.
@@ -41,10 +44,10 @@ struct CalibrationOptions {
                                ///< pinhole model; false: estimate k1 k2 p1 p2 k3 like OpenCV's default (the thesis)
   bool refine_intrinsics_in_stereo = true;  ///< true: CALIB_USE_INTRINSIC_GUESS (stereoCalibrate refines both cameras
                                             ///< jointly with R, T); false: CALIB_FIX_INTRINSIC (only R, T)
-  int max_iterations = 100;      ///< Levenberg-Marquardt iterations (calibrateCamera and stereoCalibrate)
-  double epsilon = 1e-12;        ///< Levenberg-Marquardt relative change to stop
-  double rectify_alpha = -1.0;   ///< stereoRectify alpha: -1 = OpenCV's default scaling (f' = mean fy, no zoom), so
-                                 ///< Q is directly comparable with the ideal Q; 0..1 zooms to crop or keep all pixels
+  int max_iterations = 100;                 ///< Levenberg-Marquardt iterations (calibrateCamera and stereoCalibrate)
+  double epsilon = 1e-12;                   ///< Levenberg-Marquardt relative change to stop
+  double rectify_alpha = -1.0;  ///< stereoRectify alpha: -1 = OpenCV's default scaling (f' = mean fy, no zoom), so
+                                ///< Q is directly comparable with the ideal Q; 0..1 zooms to crop or keep all pixels
 
   size_t min_pairs = 5;            ///< fewest pairs with the board found in both images
   double min_pair_fraction = 0.5;  ///< fewest pairs with the board found, as a fraction of the pairs given
@@ -55,9 +58,9 @@ struct CalibrationOptions {
 
 /// One stereo pair given to the calibration.
 struct StereoImagePair {
-  std::string left_name;   ///< shown in messages, e.g. "calib/000003_left.png"
+  std::string left_name;  ///< shown in messages, e.g. "calib/000003_left.png"
   std::string right_name;
-  cv::Mat left;            ///< 8-bit, 1 or 3 channels (BGR as cv::imread returns)
+  cv::Mat left;  ///< 8-bit, 1 or 3 channels (BGR as cv::imread returns)
   cv::Mat right;
 };
 
@@ -73,11 +76,11 @@ struct PairDetection {
 
 /// Calibration errors against the ideal calibration (thesis Table 7).
 struct IdealComparison {
-  cv::Mat q_percent_error;               ///< 4x4 CV_64F, 100 |q - q_ideal| / |q_ideal|; 0 where q_ideal is 0
-  double focal_error_percent = 0.0;      ///< 100 (f - f_ideal) / f_ideal with f = Q(2,3), the rectified focal length
-  double baseline_error_percent = 0.0;   ///< 100 (|T| - b_ideal) / b_ideal
-  double left_fx_error_percent = 0.0;    ///< 100 (M1(0,0) - fx_ideal) / fx_ideal
-  double right_fx_error_percent = 0.0;   ///< 100 (M2(0,0) - fx_ideal) / fx_ideal
+  cv::Mat q_percent_error;              ///< 4x4 CV_64F, 100 |q - q_ideal| / |q_ideal|; 0 where q_ideal is 0
+  double focal_error_percent = 0.0;     ///< 100 (f - f_ideal) / f_ideal with f = Q(2,3), the rectified focal length
+  double baseline_error_percent = 0.0;  ///< 100 (|T| - b_ideal) / b_ideal
+  double left_fx_error_percent = 0.0;   ///< 100 (M1(0,0) - fx_ideal) / fx_ideal
+  double right_fx_error_percent = 0.0;  ///< 100 (M2(0,0) - fx_ideal) / fx_ideal
   double left_principal_point_error_px = 0.0;  ///< |(cx, cy) of M1 - ideal| [px]
   /// |(-Q(0,3), -Q(1,3)) - ideal| [px]. Not only the cameras' principal point
   /// error: stereoRectify turns rect_left by R1 to align x with the estimated
@@ -86,15 +89,16 @@ struct IdealComparison {
   double rectified_principal_point_error_px = 0.0;
   double rotation_error_deg = 0.0;            ///< angle of R * R_ideal^T (right_from_left rotation) [deg]
   double baseline_direction_error_deg = 0.0;  ///< angle between T and T_ideal [deg]
-  double rectification_angle_deg = 0.0;       ///< angle of R1 (rect_left against left); the ideal's is 0 for a parallel rig [deg]
+  double rectification_angle_deg =
+      0.0;  ///< angle of R1 (rect_left against left); the ideal's is 0 for a parallel rig [deg]
 };
 
 struct CalibrationResult {
   StereoCalibration calibration;
-  cv::Mat E, F;                       ///< essential and fundamental matrices (3x3 CV_64F), x_r^T E x_l = 0
-  double rms_reprojection_px = 0.0;   ///< stereoCalibrate's return value (thesis Table 6, "RMS re-projection")
-  double left_rms_px = 0.0;           ///< calibrateCamera's return for the left camera alone
-  double right_rms_px = 0.0;          ///< same for the right camera
+  cv::Mat E, F;                      ///< essential and fundamental matrices (3x3 CV_64F), x_r^T E x_l = 0
+  double rms_reprojection_px = 0.0;  ///< stereoCalibrate's return value (thesis Table 6, "RMS re-projection")
+  double left_rms_px = 0.0;          ///< calibrateCamera's return for the left camera alone
+  double right_rms_px = 0.0;         ///< same for the right camera
   /// Mean distance from each corner to its epipolar line, averaged over both
   /// images: for undistorted corner pixels p_l, p_r (homogeneous) and
   /// l_r = F p_l, l_l = F^T p_r,
@@ -103,10 +107,10 @@ struct CalibrationResult {
   /// constraint p1^T E p2; OpenCV's stereo_calib sample, which prints the
   /// thesis's "average epipolar err", sums the two distances (2 e).
   double epipolar_error_px = 0.0;
-  double epipolar_algebraic = 0.0;    ///< 1/N sum_i |p_r^T F p_l| with pixel coordinates (F as stereoCalibrate scales it)
-  size_t corner_count = 0;            ///< N: corners per image summed over the used pairs
+  double epipolar_algebraic = 0.0;  ///< 1/N sum_i |p_r^T F p_l| with pixel coordinates (F as stereoCalibrate scales it)
+  size_t corner_count = 0;          ///< N: corners per image summed over the used pairs
   size_t used_pairs = 0;
-  std::vector<PairDetection> pairs;   ///< every pair given, in order, with status
+  std::vector<PairDetection> pairs;             ///< every pair given, in order, with status
   std::optional<IdealComparison> versus_ideal;  ///< when an ideal calibration was given / found
 
   /// A few lines for logs: pairs used and rejected (with reasons), RMS,

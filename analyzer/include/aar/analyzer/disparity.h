@@ -3,9 +3,8 @@
 // semi-global matching) on the rectified left/right images, then OpenCV's
 // speckle filter.
 
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "aar/stereo_calibration.h"
 
@@ -18,12 +17,13 @@ enum class DisparityAlgorithm {
 
 struct DisparityOptions {
   DisparityAlgorithm algorithm = DisparityAlgorithm::kBlockMatching;
-  int min_disparity = 0;         ///< smallest disparity searched [px]
-  int num_disparities = 48;      ///< disparities searched, multiple of 16 (thesis 3.4: 48) [px]
-  int block_size = 9;            ///< matching window side, odd (thesis 3.4: 9) [px]
-  int pre_filter_cap = 31;       ///< BM: x-Sobel pre-filter clip (OpenCV default); SGBM: derivative clip
-  int texture_threshold = 10;    ///< BM only: minimum summed |x-Sobel| over the window (OpenCV default)
-  int uniqueness_ratio = 15;     ///< best cost must beat the second best (outside +-1 px) by this many percent (OpenCV BM default)
+  int min_disparity = 0;       ///< smallest disparity searched [px]
+  int num_disparities = 48;    ///< disparities searched, multiple of 16 (thesis 3.4: 48) [px]
+  int block_size = 9;          ///< matching window side, odd (thesis 3.4: 9) [px]
+  int pre_filter_cap = 31;     ///< BM: x-Sobel pre-filter clip (OpenCV default); SGBM: derivative clip
+  int texture_threshold = 10;  ///< BM only: minimum summed |x-Sobel| over the window (OpenCV default)
+  int uniqueness_ratio =
+      15;  ///< best cost must beat the second best (outside +-1 px) by this many percent (OpenCV BM default)
   /// Speckle filter (thesis 3.4), applied with cv::filterSpeckles after
   /// matching (the matchers' built-in speckle filtering is switched off: BM
   /// takes its range in 1/16 px, SGBM in px, so it is done once here with
@@ -78,8 +78,8 @@ class Rectifier {
 cv::Mat ToGrayscale(const cv::Mat& image, const std::string& name = "image");
 
 struct DisparityMap {
-  cv::Mat disparity16;   ///< CV_16S, disparity * 16 in rect_left pixels; InvalidValue16() where none
-  cv::Mat disparity;     ///< CV_32F view, disparity16 / 16 [px]; min_disparity - 1 where none
+  cv::Mat disparity16;        ///< CV_16S, disparity * 16 in rect_left pixels; InvalidValue16() where none
+  cv::Mat disparity;          ///< CV_32F view, disparity16 / 16 [px]; min_disparity - 1 where none
   int invalid_value16 = -16;  ///< the value marking invalid pixels in disparity16
   size_t valid_count = 0;     ///< pixels with a disparity (after the speckle filter)
 };

@@ -7,13 +7,11 @@
 // the receiver's disparity and re-projects to points in mid-air around the
 // outline. StereoBM matches x-Sobel-filtered images, and the 3x3 pre-filter
 // spreads an edge's texture one more pixel: the halo reaches
-// block_size / 2 + 1 pixels past the silhouette (HaloRadiusPx). Against a uniform sky the pixels further out have no texture and
-// are invalid; against a textured background they keep the background's
-// disparity and the halo sits at a disparity jump. Either way the halo lies
-// within half a block (block_size / 2, Chebyshev distance) of an invalid
-// pixel or of a jump, so removing every valid pixel that close removes it,
-// and costs the receiver only its own outermost half block where it meets
-// such a boundary.
+// block_size / 2 + 1 pixels past the silhouette (HaloRadiusPx). Against a uniform sky the pixels further out have no
+// texture and are invalid; against a textured background they keep the background's disparity and the halo sits at a
+// disparity jump. Either way the halo lies within half a block (block_size / 2, Chebyshev distance) of an invalid pixel
+// or of a jump, so removing every valid pixel that close removes it, and costs the receiver only its own outermost half
+// block where it meets such a boundary.
 
 #include <opencv2/core.hpp>
 

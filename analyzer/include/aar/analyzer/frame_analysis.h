@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "aar/analyzer/disparity.h"
@@ -25,7 +25,8 @@ namespace aar {
 
 enum class IcpSeed {
   kCentroid,       ///< zero attitude at the sensed cloud's centroid (thesis Experiment 1)
-  kPreviousFrame,  ///< the previous estimates, extrapolated at constant velocity (centroid for the first frame or after a failure)
+  kPreviousFrame,  ///< the previous estimates, extrapolated at constant velocity (centroid for the first frame or after
+                   ///< a failure)
 };
 std::string ToString(IcpSeed seed);
 IcpSeed ParseIcpSeed(const std::string& text);
@@ -47,7 +48,7 @@ std::string ToString(Preset preset);
 Preset ParsePreset(const std::string& text);
 
 struct FrameAnalysisOptions {
-  DisparityOptions disparity;        ///< thesis 3.4: BM, 48 disparities, block 9, speckle filter
+  DisparityOptions disparity;  ///< thesis 3.4: BM, 48 disparities, block 9, speckle filter
   /// Remove the foreground-fattening halo (disparity_cleaning.h); its radius
   /// is set from the block size (block_size / 2) by ForPreset and the CLI.
   bool remove_halo = true;
@@ -67,8 +68,8 @@ struct FrameAnalysisOptions {
     return o;
   }();
   Registration registration = Registration::kPointToPlane;
-  PlaneIcpOptions plane_icp;         ///< for kPointToPlane
-  IcpOptions icp;                    ///< for kPointToPoint (thesis 3.6: 30 iterations)
+  PlaneIcpOptions plane_icp;  ///< for kPointToPlane
+  IcpOptions icp;             ///< for kPointToPoint (thesis 3.6: 30 iterations)
   IcpSeed seed = IcpSeed::kCentroid;
   /// Tracking (once a frame is measured): rectify and match only the region
   /// where the receiver is predicted (constant velocity from the last two
@@ -89,13 +90,13 @@ struct FrameAnalysisOptions {
   /// Diagnosis (datasets with --depth): register the ideal cloud, the true
   /// surface points at the sensed pixels, instead of the stereo cloud.
   bool register_truth_cloud = false;
-  size_t min_sensed_points = 30;   ///< fewer sensed points: the frame is not measured ("receiver out of view")
+  size_t min_sensed_points = 30;  ///< fewer sensed points: the frame is not measured ("receiver out of view")
   /// Registration failed (ICP did not converge onto the receiver) when its
   /// residual RMS exceeds max_icp_rmse_m + 3 sigma_z, where sigma_z =
   /// r^2 disparity_noise_px / (f b) is the stereo depth noise expected at the
   /// estimated range r (f b from Q); such a frame is recorded as not measured.
-  double max_icp_rmse_m = 2.0;        ///< residual allowance at zero range [m]
-  double disparity_noise_px = 0.1;    ///< disparity noise used for sigma_z [px] (a typical block-matching accuracy)
+  double max_icp_rmse_m = 2.0;      ///< residual allowance at zero range [m]
+  double disparity_noise_px = 0.1;  ///< disparity noise used for sigma_z [px] (a typical block-matching accuracy)
 
   /// The options of a preset: kDefault = these defaults; kThesis = BM 9/48
   /// with speckle filter, no halo removal, no rounding correction, no

@@ -9,6 +9,7 @@
 // Everything is single-threaded, sums run in a fixed order in double
 // precision, so a result is bitwise repeatable for the same inputs.
 
+#include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -16,8 +17,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "aar/analyzer/kdtree.h"
 

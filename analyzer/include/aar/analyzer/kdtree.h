@@ -2,14 +2,13 @@
 // Exact nearest-neighbour search over a fixed 3-D point set (nanoflann
 // KD-tree, L2), with seeded k-nearest queries for warm starts.
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace aar {
 

@@ -3,10 +3,9 @@
 // read from the dataset's receiver.glb. Reference models (reference_model.h)
 // are sampled on it and the shelled model's visibility test rasterizes it.
 
+#include <Eigen/Core>
 #include <filesystem>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace aar {
 

@@ -13,14 +13,13 @@
 // of plain queries (up to ties between equidistant points); a finite R also
 // makes far queries cheap.
 
+#include <Eigen/Core>
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "aar/analyzer/kdtree.h"
 

@@ -28,13 +28,12 @@
 //
 // Single-threaded, fixed summation order: bitwise repeatable.
 
+#include <Eigen/Geometry>
 #include <cstddef>
 #include <limits>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "aar/analyzer/kdtree.h"
 
@@ -49,12 +48,12 @@ std::string ToString(PlanePairing pairing);
 PlanePairing ParsePlanePairing(const std::string& text);
 
 struct PlaneIcpOptions {
-  int max_iterations = 60;                ///< Gauss-Newton steps at most
+  int max_iterations = 60;  ///< Gauss-Newton steps at most
   /// Converged when a step moves less than this [m] and turns less than
   /// rotation_tolerance_rad: far below the errors of interest (1 mm, 0.001
   /// deg), above the jitter of switching nearest neighbours.
   double translation_tolerance_m = 1e-3;
-  double rotation_tolerance_rad = 1e-4;   ///< [rad]
+  double rotation_tolerance_rad = 1e-4;  ///< [rad]
   PlanePairing pairing = PlanePairing::kSymmetric;
   /// Pairs farther apart than the larger of this and gate_sigmas times the
   /// sensed point's along-ray sigma are ignored [m] (the gate grows with the
@@ -71,7 +70,7 @@ struct PlaneIcpOptions {
   /// steps are below ten times the tolerances, then on all; 1 = off.
   size_t coarse_stride = 8;
   size_t coarse_min_points = 250;  ///< the coarse phase keeps at least this many sensed points (far clouds: none)
-  double robust_scale = 2.0;  ///< Cauchy kernel scale [sigmas]
+  double robust_scale = 2.0;       ///< Cauchy kernel scale [sigmas]
   // Stereo noise model (see above).
   double disparity_noise_px = 0.1;  ///< sigma_d: disparity noise [px]
   double lateral_noise_px = 0.5;    ///< sigma_px: image-position noise [px]
@@ -86,8 +85,8 @@ struct PlaneIcpOptions {
 struct StereoNoiseGeometry {
   Eigen::Vector3d camera_centre_in_tanker = Eigen::Vector3d::Zero();  ///< left camera centre [m]
   Eigen::Vector3d optical_axis_in_tanker = Eigen::Vector3d::UnitX();  ///< left camera +z (unit)
-  double focal_px = 900.0;                    ///< f [px]
-  double focal_times_baseline_px_m = 450.0;   ///< f b [px m]
+  double focal_px = 900.0;                                            ///< f [px]
+  double focal_times_baseline_px_m = 450.0;                           ///< f b [px m]
 };
 
 struct PlaneIcpResult {

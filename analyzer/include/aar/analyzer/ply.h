@@ -1,11 +1,10 @@
 #pragma once
 // Point clouds as PLY files (Turk 1994): binary writer, ascii/binary reader.
 
+#include <Eigen/Core>
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace aar {
 

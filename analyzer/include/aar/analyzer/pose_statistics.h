@@ -1,17 +1,15 @@
 #pragma once
-// The thesis's statistics over per-frame records (frame_results.h) (section 3.7, chapter IV): mean absolute error and RMS error
-// (equation 4) of each degree of freedom per region (A, B, C; Tables 4-5)
-// and per range bin (20-60 m, 60-110 m; Tables 1-2), and ICP execution time
-// mean and standard deviation (Table 3).
+// The thesis's statistics over per-frame records (frame_results.h) (section 3.7, chapter IV): mean absolute error and
+// RMS error (equation 4) of each degree of freedom per region (A, B, C; Tables 4-5) and per range bin (20-60 m, 60-110
+// m; Tables 1-2), and ICP execution time mean and standard deviation (Table 3).
 
 #include <array>
 #include <cstddef>
 #include <filesystem>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <nlohmann/json_fwd.hpp>
 
 #include "aar/analyzer/frame_results.h"
 
@@ -36,7 +34,7 @@ struct GroupStats {
   /// (the thesis's convention: a frame whose ICP failed counts with its error).
   size_t with_estimate = 0;
   SixDof mean_abs_error_all;
-  StereoTruthStats stereo_truth;     ///< summed over all frames of the group
+  StereoTruthStats stereo_truth;  ///< summed over all frames of the group
 };
 
 /// All groups of one reference model, in the fixed order all, A, B, C, 20-60, 60-110.

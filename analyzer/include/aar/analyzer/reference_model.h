@@ -14,14 +14,13 @@
 // receiver reference point (the model origin), which is the thesis's "center
 // point transformation" of section 3.6 done once and for all.
 
+#include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "aar/analyzer/mesh.h"
 #include "aar/pose.h"

@@ -2,12 +2,11 @@
 // Re-projection of a disparity map to a point cloud in the tanker frame
 // (thesis 3.5, equations 1-3).
 
-#include <cstddef>
-#include <vector>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstddef>
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "aar/analyzer/subpixel.h"
 #include "aar/stereo_calibration.h"
@@ -15,9 +14,11 @@
 namespace aar {
 
 struct ReprojectionOptions {
-  double min_depth_m = 1e-6;   ///< points with depth (z in rect_left) at or below this are dropped (behind the camera) [m]
+  double min_depth_m =
+      1e-6;  ///< points with depth (z in rect_left) at or below this are dropped (behind the camera) [m]
   double max_depth_m = 750.0;  ///< points deeper than this are dropped (thesis 3.5: background) [m]
-  size_t keep_one_in = 8;      ///< decimation: keep valid points 0, k, 2k, ... in row-major order (thesis 3.5: 8); 1 keeps all
+  size_t keep_one_in =
+      8;  ///< decimation: keep valid points 0, k, 2k, ... in row-major order (thesis 3.5: 8); 1 keeps all
   /// When > 0, the decimation step is raised to floor(valid pixels /
   /// target_points) when that is larger than keep_one_in, so that a near
   /// receiver gives about this many points and a far one keeps all of its few.
@@ -31,9 +32,9 @@ struct ReprojectionOptions {
 /// The sensed point cloud of one frame.
 struct SensedCloud {
   std::vector<Eigen::Vector3d> points_in_tanker;  ///< kept points, row-major pixel order [m]
-  size_t valid_count = 0;  ///< points that passed the disparity and depth filters, before decimation
-  size_t kept_count = 0;   ///< points_in_tanker.size()
-  size_t refine_rejected = 0;  ///< decimated points the sub-pixel refiner rejected
+  size_t valid_count = 0;               ///< points that passed the disparity and depth filters, before decimation
+  size_t kept_count = 0;                ///< points_in_tanker.size()
+  size_t refine_rejected = 0;           ///< decimated points the sub-pixel refiner rejected
   std::vector<Eigen::Vector3d> pixels;  ///< (u, v, disparity) of each kept point in rect_left [px]
 };
 

@@ -12,11 +12,10 @@
 // where the four neighbouring pixels are all receiver, else taken from the
 // nearest pixel.
 
+#include <Eigen/Core>
 #include <array>
 #include <cstddef>
 #include <filesystem>
-
-#include <Eigen/Core>
 #include <opencv2/core.hpp>
 
 #include "aar/stereo_calibration.h"
@@ -43,10 +42,10 @@ struct StereoTruthOptions {
 
 /// Sums over the sensed points of one frame (or of many: Add).
 struct StereoTruthStats {
-  size_t points = 0;       ///< sensed points compared
-  size_t off_receiver = 0; ///< points whose pixel is not on the receiver in the truth (halo, background)
-  size_t off_surface = 0;  ///< off_receiver plus receiver points beyond off_surface_px
-  size_t on_receiver = 0;  ///< points on the receiver (the disparity statistics use these)
+  size_t points = 0;        ///< sensed points compared
+  size_t off_receiver = 0;  ///< points whose pixel is not on the receiver in the truth (halo, background)
+  size_t off_surface = 0;   ///< off_receiver plus receiver points beyond off_surface_px
+  size_t on_receiver = 0;   ///< points on the receiver (the disparity statistics use these)
   double error_sum_px = 0.0;
   double error_squared_sum_px2 = 0.0;
   std::array<size_t, kFractionBins> bin_count{};
@@ -54,7 +53,9 @@ struct StereoTruthStats {
 
   double MeanErrorPx() const { return on_receiver ? error_sum_px / static_cast<double>(on_receiver) : 0.0; }
   double RmsErrorPx() const;
-  double OffSurfaceFraction() const { return points ? static_cast<double>(off_surface) / static_cast<double>(points) : 0.0; }
+  double OffSurfaceFraction() const {
+    return points ? static_cast<double>(off_surface) / static_cast<double>(points) : 0.0;
+  }
   void Add(const StereoTruthStats& other);
 };
 

@@ -16,16 +16,15 @@
 // refinement). The refined point is re-projected from the left pixel
 // u + delta/2 with disparity d_int + delta.
 
-#include <optional>
-
 #include <opencv2/core.hpp>
+#include <optional>
 
 namespace aar {
 
 struct SubpixelOptions {
-  int half_window_px = 4;        ///< window (2h+1)^2; 4 = the 9x9 block of the thesis's matcher [px]
-  int max_iterations = 4;        ///< Gauss-Newton steps at most
-  double tolerance_px = 0.002;   ///< stop when a step is smaller [px]
+  int half_window_px = 4;          ///< window (2h+1)^2; 4 = the 9x9 block of the thesis's matcher [px]
+  int max_iterations = 4;          ///< Gauss-Newton steps at most
+  double tolerance_px = 0.002;     ///< stop when a step is smaller [px]
   double max_correction_px = 1.0;  ///< |delta - start| larger than this: refinement rejected [px]
   /// Summed squared horizontal gradient over the window below which the
   /// window has too little texture to refine [grey levels^2 / px^2].
@@ -56,8 +55,8 @@ class SubpixelRefiner {
   std::optional<RefinedDisparity> Refine(int u, int v, double disparity_px) const;
 
  private:
-  cv::Mat left_, right_;            // CV_32F intensities
-  cv::Mat left_dx_, right_dx_;      // CV_32F horizontal derivatives
+  cv::Mat left_, right_;        // CV_32F intensities
+  cv::Mat left_dx_, right_dx_;  // CV_32F horizontal derivatives
   SubpixelOptions options_;
   cv::Point origin_;
 };

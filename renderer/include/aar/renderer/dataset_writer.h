@@ -4,9 +4,8 @@
 // stereo_render_job.
 
 #include <filesystem>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 namespace aar {
 

@@ -1,9 +1,9 @@
 #pragma once
 // Move-only owners of Vulkan buffers and images with their memory.
 
-#include <cstddef>
-
 #include <vulkan/vulkan.h>
+
+#include <cstddef>
 
 #include "aar/renderer/vulkan_context.h"
 

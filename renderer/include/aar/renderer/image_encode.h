@@ -2,9 +2,8 @@
 // Output encodings of rendered views (docs/dataset-format.md).
 
 #include <filesystem>
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "aar/renderer/scene_renderer.h"
 

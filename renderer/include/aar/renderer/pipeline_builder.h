@@ -4,10 +4,10 @@
 // since models are double-sided, reversed depth test, no blending) with the
 // parts that vary per render target as fields, and one Build() call.
 
+#include <vulkan/vulkan.h>
+
 #include <cstddef>
 #include <cstdint>
-
-#include <vulkan/vulkan.h>
 
 namespace aar {
 
@@ -19,8 +19,8 @@ struct PipelineBuilder {
   VkShaderModule fragment_shader = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;
   VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;  ///< rasterization samples (the target's)
-  uint32_t width = 1;   ///< viewport and scissor width [px]
-  uint32_t height = 1;  ///< viewport and scissor height [px]
+  uint32_t width = 1;                                     ///< viewport and scissor width [px]
+  uint32_t height = 1;                                    ///< viewport and scissor height [px]
 
   /// Creates the pipeline for subpass 0 of `render_pass`; the caller owns it.
   VkPipeline Build(VkDevice device, VkRenderPass render_pass) const;

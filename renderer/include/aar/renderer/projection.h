@@ -41,7 +41,7 @@ struct PixelRect {
 /// Conservative framebuffer rectangle covering an axis-aligned box (object
 /// frame) under clip_from_object, grown by `margin_px` and clamped to the
 /// image; the whole image when any corner is not in front of the camera.
-PixelRect ProjectedRect(const Eigen::Matrix4d& clip_from_object, const Eigen::AlignedBox3d& box, int width,
-                        int height, int margin_px);
+PixelRect ProjectedRect(const Eigen::Matrix4d& clip_from_object, const Eigen::AlignedBox3d& box, int width, int height,
+                        int margin_px);
 
 }  // namespace aar

@@ -5,9 +5,9 @@
 // single-sample resolve image. The output (colour or resolve) ends the pass in
 // TRANSFER_SRC_OPTIMAL, ready to be copied to host memory.
 
-#include <cstdint>
-
 #include <vulkan/vulkan.h>
+
+#include <cstdint>
 
 #include "aar/renderer/gpu_resources.h"
 #include "aar/renderer/vulkan_context.h"
@@ -32,7 +32,7 @@ class RenderTarget {
  private:
   VkDevice device_ = VK_NULL_HANDLE;
   int samples_ = 1;
-  GpuImage color_;    // multisampled when samples > 1
+  GpuImage color_;  // multisampled when samples > 1
   GpuImage depth_;
   GpuImage resolve_;  // single-sample copy source when samples > 1
   VkRenderPass render_pass_ = VK_NULL_HANDLE;

@@ -4,13 +4,12 @@
 // transforms and body_from_gltf applied), their materials, and textures with a
 // full mip chain built on the CPU in linear colour (deterministic).
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace aar {
 
@@ -30,7 +29,7 @@ struct Primitive {
   std::vector<Vertex> vertices;
   std::vector<uint32_t> indices;
   std::array<float, 4> base_color_factor = {1, 1, 1, 1};  ///< linear RGBA
-  int texture = -1;  ///< index into SceneModel::textures, -1 for none
+  int texture = -1;                                       ///< index into SceneModel::textures, -1 for none
 };
 
 struct SceneModel {

@@ -5,11 +5,10 @@
 // Vulkan objects here only record and submit; the maths lives in
 // projection.h and msaa.h.
 
+#include <Eigen/Geometry>
 #include <map>
 #include <memory>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "aar/renderer/gpu_resources.h"
 #include "aar/renderer/msaa.h"
@@ -21,9 +20,9 @@
 namespace aar {
 
 struct RenderItem {
-  int model = 0;                                                   ///< index returned by AddModel
+  int model = 0;  ///< index returned by AddModel
   Eigen::Isometry3d tanker_from_object = Eigen::Isometry3d::Identity();
-  float object_id = 0.0f;                                          ///< written by the ground-truth pass
+  float object_id = 0.0f;  ///< written by the ground-truth pass
 };
 
 struct ViewTimings {
@@ -41,8 +40,8 @@ struct LinearImage {
 struct GroundTruthImage {
   int width = 0;
   int height = 0;
-  std::vector<float> depth_m;        ///< along the optical axis, 0 where no surface
-  std::vector<uint8_t> object_id;    ///< RenderItem::object_id, 0 for background
+  std::vector<float> depth_m;      ///< along the optical axis, 0 where no surface
+  std::vector<uint8_t> object_id;  ///< RenderItem::object_id, 0 for background
 };
 
 struct SceneRendererOptions {

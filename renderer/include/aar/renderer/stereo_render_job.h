@@ -13,18 +13,18 @@
 namespace aar {
 
 struct RenderJobOptions {
-  std::filesystem::path output;                                     ///< dataset folder (created)
-  std::filesystem::path rig = "scenes/rig.json";                    ///< camera rig
-  std::filesystem::path receiver_model = "scenes/c12.glb";          ///< receiver glTF
-  std::filesystem::path tanker_model = "scenes/kc46.glb";           ///< tanker glTF
-  std::filesystem::path board_model = "scenes/calib_board.glb";     ///< calibration board glTF (calib job)
-  std::filesystem::path flight_path = "flightpaths/conops.csv";     ///< flight path (render job)
-  int msaa = 16;                                                    ///< 1, 4, 8, 16 or 32 samples per pixel
-  float anisotropy = 1.0f;                                          ///< texture anisotropic filtering (1 = trilinear)
-  bool depth = false;                                               ///< also write left-camera depth EXR (render job)
-  FrameSelection selection;                                         ///< frames (or calib pairs) to render
-  std::string device;                                               ///< Vulkan device name filter ("" = lavapipe first)
-  bool progress = true;                                             ///< progress line on stderr
+  std::filesystem::path output;                                  ///< dataset folder (created)
+  std::filesystem::path rig = "scenes/rig.json";                 ///< camera rig
+  std::filesystem::path receiver_model = "scenes/c12.glb";       ///< receiver glTF
+  std::filesystem::path tanker_model = "scenes/kc46.glb";        ///< tanker glTF
+  std::filesystem::path board_model = "scenes/calib_board.glb";  ///< calibration board glTF (calib job)
+  std::filesystem::path flight_path = "flightpaths/conops.csv";  ///< flight path (render job)
+  int msaa = 16;                                                 ///< 1, 4, 8, 16 or 32 samples per pixel
+  float anisotropy = 1.0f;                                       ///< texture anisotropic filtering (1 = trilinear)
+  bool depth = false;                                            ///< also write left-camera depth EXR (render job)
+  FrameSelection selection;                                      ///< frames (or calib pairs) to render
+  std::string device;                                            ///< Vulkan device name filter ("" = lavapipe first)
+  bool progress = true;                                          ///< progress line on stderr
 
   /// Throws aar::Error naming the option (its command-line flag) when a value
   /// is out of range; the jobs call it before reading any input.
@@ -40,10 +40,10 @@ struct RenderStageTimes {
 };
 
 struct RenderJobResult {
-  size_t selected = 0;   ///< pairs in the selection
-  size_t rendered = 0;   ///< pairs rendered by this run
-  size_t skipped = 0;    ///< pairs already complete and verified
-  bool complete = false; ///< the whole dataset is complete (manifest finalized)
+  size_t selected = 0;    ///< pairs in the selection
+  size_t rendered = 0;    ///< pairs rendered by this run
+  size_t skipped = 0;     ///< pairs already complete and verified
+  bool complete = false;  ///< the whole dataset is complete (manifest finalized)
   RenderStageTimes times;
   std::string msaa_method;  ///< "native" or "composed"
   std::string device;       ///< Vulkan device name

@@ -4,12 +4,12 @@
 // call goes through VkCheck, which throws aar::Error with the call's name and
 // the VkResult.
 
+#include <vulkan/vulkan.h>
+
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <vulkan/vulkan.h>
 
 namespace aar {
 
@@ -18,16 +18,16 @@ void VkCheck(VkResult result, const char* what);
 const char* VkResultName(VkResult result);
 
 struct DeviceInfo {
-  std::string name;              ///< e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
-  std::string driver_name;       ///< e.g. "llvmpipe"
-  std::string driver_info;       ///< e.g. "Mesa 22.3.6 (LLVM 15.0.6)"
-  std::string api_version;       ///< e.g. "1.3.230"
+  std::string name;         ///< e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
+  std::string driver_name;  ///< e.g. "llvmpipe"
+  std::string driver_info;  ///< e.g. "Mesa 22.3.6 (LLVM 15.0.6)"
+  std::string api_version;  ///< e.g. "1.3.230"
   uint32_t vendor_id = 0;
   uint32_t device_id = 0;
-  std::string device_type;       ///< "cpu", "discrete-gpu", ...
+  std::string device_type;               ///< "cpu", "discrete-gpu", ...
   std::vector<int> color_sample_counts;  ///< native MSAA counts for colour and depth attachments
   bool standard_sample_locations = false;
-  float max_anisotropy = 1.0f;   ///< 1 when anisotropic filtering is unavailable
+  float max_anisotropy = 1.0f;  ///< 1 when anisotropic filtering is unavailable
 };
 
 struct VulkanContextOptions {
