@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake ninja-build pkg-config git
+  build-essential cmake ninja-build pkg-config git clang-format
   libvulkan-dev mesa-vulkan-drivers vulkan-tools glslang-tools
   libglm-dev libtinygltf-dev nlohmann-json3-dev
   libopenimageio-dev openimageio-tools

@@ -4,5 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
+# One style (.clang-format): every C++ file as clang-format would write it.
+git ls-files '*.cpp' '*.h' | xargs clang-format --dry-run -Werror
 bash scripts/build.sh -DAAR_WARNINGS_AS_ERRORS=ON
 ctest --test-dir build --output-on-failure --parallel "$(nproc)" --timeout 900
