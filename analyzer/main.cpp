@@ -67,7 +67,7 @@ struct RunFlags {
   std::optional<int> icp_iterations, num_disparities, block_size;
   std::optional<double> max_correspondence_m, disparity_offset_px, disparity_noise_px, gate_sigmas;
   std::optional<size_t> keep_one_in, target_points, model_queries;
-  std::optional<bool> halo, subpixel, rounding, widen, balance;
+  std::optional<bool> halo, subpixel, rounding, widen, balance, full_surface;
   bool truth_cloud = false, track = false;
 
   void Add(CLI::App* cmd) {
@@ -90,6 +90,8 @@ struct RunFlags {
     cmd->add_option("--correspondence", correspondence,
                     "point-to-point pairing: model_to_sensed (thesis) or sensed_to_model");
     cmd->add_option("--pairing", pairing, "point-to-plane pairing: symmetric (default) or sensed_to_model");
+    cmd->add_option("--full-surface", full_surface,
+                    "point-to-plane with the shelled model: pair sensed points with the full model's surface");
     cmd->add_option("--balance", balance, "symmetric pairing: weigh both directions equally in total (default: false)");
     cmd->add_option(
         "--gate-sigmas", gate_sigmas,
@@ -159,6 +161,7 @@ struct RunFlags {
     if (widen) f.widen_disparity_search = *widen;
     if (balance) f.plane_icp.balance_directions = *balance;
     if (gate_sigmas) f.plane_icp.gate_sigmas = *gate_sigmas;
+    if (full_surface) f.pair_sensed_with_full_surface = *full_surface;
     if (model_queries) f.plane_icp.max_model_queries = *model_queries;
     if (disparity_offset_px) f.reprojection.disparity_offset_px = *disparity_offset_px;
     if (disparity_noise_px) f.plane_icp.disparity_noise_px = f.disparity_noise_px = *disparity_noise_px;

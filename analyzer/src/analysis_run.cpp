@@ -180,7 +180,8 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
     std::fprintf(stderr, "reference model '%s': %zu points\n", reference.name.c_str(),
                  reference.points_in_receiver.size());
   }
-  const FrameAnalyzer analyzer(calibration, rig.left.tanker_from_camera, reference, options.frame);
+  const ReferenceModel full_surface = FullModel(mesh, options.reference.options);
+  const FrameAnalyzer analyzer(calibration, rig.left.tanker_from_camera, reference, options.frame, &full_surface);
 
   const nlohmann::json run = {{"schema", "aar-run/1"},
                               {"dataset_manifest_sha256", Sha256File(options.dataset / kManifestName)},

@@ -95,7 +95,8 @@ void FrameAnalysisOptions::Check() const {
 }
 
 FrameAnalyzer::FrameAnalyzer(const StereoCalibration& calibration, const Eigen::Isometry3d& tanker_from_left,
-                             const ReferenceModel& model, const FrameAnalysisOptions& options)
+                             const ReferenceModel& model, const FrameAnalysisOptions& options,
+                             const ReferenceModel* full_surface)
     : calibration_(calibration),
       tanker_from_left_(tanker_from_left),
       focal_times_baseline_px_m_(std::abs(calibration.Q.at<double>(2, 3) / calibration.Q.at<double>(3, 2))),
@@ -113,6 +114,9 @@ FrameAnalyzer::FrameAnalyzer(const StereoCalibration& calibration, const Eigen::
     geometry.focal_times_baseline_px_m = focal_times_baseline_px_m_;
     plane_icp_ = std::make_unique<PlaneIcpRegistration>(model.points_in_receiver, model.normals_in_receiver, geometry,
                                                         options_.plane_icp);
+    if (options_.pair_sensed_with_full_surface && full_surface != nullptr) {
+      plane_icp_->SetSensedPairingSurface(full_surface->points_in_receiver, full_surface->normals_in_receiver);
+    }
   }
 }
 

@@ -114,6 +114,18 @@ PlaneIcpRegistration::PlaneIcpRegistration(std::vector<Eigen::Vector3d> model_po
 
 PlaneIcpRegistration::~PlaneIcpRegistration() = default;
 
+void PlaneIcpRegistration::SetSensedPairingSurface(std::vector<Eigen::Vector3d> points_in_receiver,
+                                                   std::vector<Eigen::Vector3d> normals_in_receiver) {
+  if (points_in_receiver.empty() || normals_in_receiver.size() != points_in_receiver.size()) {
+    throw Error("point-to-plane ICP: the pairing surface needs points and one normal per point");
+  }
+  CheckPoints(points_in_receiver, "surface point");
+  CheckPoints(normals_in_receiver, "surface normal");
+  surface_ = std::move(points_in_receiver);
+  surface_normals_ = std::move(normals_in_receiver);
+  surface_tree_ = std::make_unique<KdTree3d>(surface_, options_.kdtree_leaf_size);
+}
+
 PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
                                               const Eigen::Isometry3d& initial_tanker_from_receiver) const {
   if (sensed.empty()) throw Error("point-to-plane ICP: the sensed point cloud is empty");
@@ -128,7 +140,10 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
   double max_gate_squared = 0.0;
   for (const SensedNoise& n : noise) max_gate_squared = std::max(max_gate_squared, n.gate_squared);
   const double search_radius = std::sqrt(max_gate_squared);
-  CachedNearest to_model(*model_tree_, sensed.size(), true, search_radius);
+  const bool own_surface = !surface_.empty();
+  const std::vector<Eigen::Vector3d>& surface = own_surface ? surface_ : model_;
+  const std::vector<Eigen::Vector3d>& surface_normals = own_surface ? surface_normals_ : normals_;
+  CachedNearest to_model(own_surface ? *surface_tree_ : *model_tree_, sensed.size(), true, search_radius);
   std::unique_ptr<KdTree3d> sensed_tree;
   std::unique_ptr<CachedNearest> to_sensed;
   if (symmetric) {
@@ -154,7 +169,7 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
     for (size_t i = 0; i < sensed.size(); i += coarse) {
       const auto [j, squared] = to_model.Find(i, receiver_from_tanker * sensed[i]);
       if (j == CachedNearest::kNone || squared > noise[i].gate_squared) continue;
-      equations.Add(tanker_from_receiver * model_[j], rotation * normals_[j], sensed[i], noise[i], centre, o,
+      equations.Add(tanker_from_receiver * surface[j], rotation * surface_normals[j], sensed[i], noise[i], centre, o,
                     static_cast<double>(coarse), sum_squared);
       ++inliers;
     }

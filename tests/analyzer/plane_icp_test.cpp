@@ -63,6 +63,35 @@ TEST_P(PlaneIcpConverges, FromHalfAMetreAndFiveDegreesWithinTwentyIterations) {
 INSTANTIATE_TEST_SUITE_P(Pairings, PlaneIcpConverges,
                          ::testing::Values(PlanePairing::kSensedToModel, PlanePairing::kSymmetric));
 
+TEST(PlaneIcp, PairsSensedPointsWithTheFullSurfaceWhenGiven) {
+  // The model is half the receiver (a "shell"); the sensed cloud covers all
+  // of it, so without the full surface its other half pairs with wrong points.
+  const ReferenceModel full = SampleSurfaceWithNormals(Receiver(), 8000, 7);
+  ReferenceModel half;
+  for (size_t i = 0; i < full.points_in_receiver.size(); ++i) {
+    if (full.points_in_receiver[i].z() >= 0.0) {
+      half.points_in_receiver.push_back(full.points_in_receiver[i]);
+      half.normals_in_receiver.push_back(full.normals_in_receiver[i]);
+    }
+  }
+  std::vector<Eigen::Vector3d> sensed;
+  for (const Eigen::Vector3d& p : SampleSurfaceWithNormals(Receiver(), 3000, 8).points_in_receiver) {
+    sensed.push_back(TruePose() * p);
+  }
+  Eigen::Isometry3d initial = TruePose();
+  initial.translation() += Eigen::Vector3d(0.2, 0.1, -0.2);
+  PlaneIcpOptions options;
+  options.pairing = PlanePairing::kSensedToModel;
+  PlaneIcpRegistration icp(half.points_in_receiver, half.normals_in_receiver, Geometry(), options);
+  EXPECT_THROW(icp.SetSensedPairingSurface(full.points_in_receiver, {}), Error);
+  icp.SetSensedPairingSurface(full.points_in_receiver, full.normals_in_receiver);
+  const PlaneIcpResult result = icp.Register(sensed, initial);
+  EXPECT_TRUE(result.converged);
+  const Eigen::Isometry3d error = TruePose().inverse() * result.tanker_from_receiver;
+  EXPECT_LT(error.translation().norm(), 0.01);
+  EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI, 0.05);
+}
+
 TEST(PlaneIcp, RejectsModelsWithoutNormalsAndEmptyClouds) {
   const ReferenceModel model = SampleSurfaceWithNormals(Receiver(), 100, 1);
   EXPECT_THROW(PlaneIcpRegistration(model.points_in_receiver, {}, Geometry()), Error);

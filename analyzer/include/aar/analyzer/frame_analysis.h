@@ -69,7 +69,10 @@ struct FrameAnalysisOptions {
   }();
   Registration registration = Registration::kPointToPlane;
   PlaneIcpOptions plane_icp;  ///< for kPointToPlane
-  IcpOptions icp;             ///< for kPointToPoint (thesis 3.6: 30 iterations)
+  /// kPointToPlane with a shelled model: pair sensed points with the full
+  /// model's surface (PlaneIcpRegistration::SetSensedPairingSurface).
+  bool pair_sensed_with_full_surface = false;
+  IcpOptions icp;  ///< for kPointToPoint (thesis 3.6: 30 iterations)
   IcpSeed seed = IcpSeed::kCentroid;
   /// Tracking (once a frame is measured): rectify and match only the region
   /// where the receiver is predicted (constant velocity from the last two
@@ -120,7 +123,8 @@ class FrameAnalyzer {
  public:
   /// The model needs normals for kPointToPlane.
   FrameAnalyzer(const StereoCalibration& calibration, const Eigen::Isometry3d& tanker_from_left,
-                const ReferenceModel& model, const FrameAnalysisOptions& options);
+                const ReferenceModel& model, const FrameAnalysisOptions& options,
+                const ReferenceModel* full_surface = nullptr);
 
   /// Analyzes frame `index` of `dataset`. Never throws for a bad frame: a
   /// missing or corrupt image, a malformed sidecar, a hash mismatch against

@@ -108,6 +108,13 @@ class PlaneIcpRegistration {
                        const PlaneIcpOptions& options = {});
   ~PlaneIcpRegistration();
 
+  /// Pairs sensed points with this surface (points and unit normals, receiver
+  /// frame) instead of the model; model-to-sensed pairs keep the model. With
+  /// the full model here and the shell as the model, every sensed point finds
+  /// the surface it lies on, and only surfaces the cameras see pull the cloud.
+  void SetSensedPairingSurface(std::vector<Eigen::Vector3d> points_in_receiver,
+                               std::vector<Eigen::Vector3d> normals_in_receiver);
+
   /// Registers one frame. Throws aar::Error when the sensed cloud is empty or not finite.
   PlaneIcpResult Register(const std::vector<Eigen::Vector3d>& sensed_points_in_tanker,
                           const Eigen::Isometry3d& initial_tanker_from_receiver) const;
@@ -120,6 +127,8 @@ class PlaneIcpRegistration {
   StereoNoiseGeometry geometry_;
   PlaneIcpOptions options_;
   std::unique_ptr<KdTree3d> model_tree_;
+  std::vector<Eigen::Vector3d> surface_, surface_normals_;  // empty: the model
+  std::unique_ptr<KdTree3d> surface_tree_;
 };
 
 }  // namespace aar
