@@ -98,14 +98,16 @@ void WriteSummary(const std::filesystem::path& out, const nlohmann::json& run, c
 
 }  // namespace
 
-ReferenceModel BuildReferenceModel(const TriangleMesh& mesh, const StereoRig& rig, const ReferenceRequest& request) {
+ReferenceModel BuildReferenceModel(const TriangleMesh& mesh, const StereoRig& rig, const ReferenceRequest& request,
+                                   ReferenceModel* full_out) {
   request.options.Check();
   if (request.model != "full" && request.model != "shelled") {
     throw Error("--model '" + request.model + "': expected full or shelled");
   }
   ReferenceModel full = FullModel(mesh, request.options);
-  if (request.model == "full") return full;
-  return ShellModel(full, mesh, rig, request.options);
+  ReferenceModel model = request.model == "full" ? full : ShellModel(full, mesh, rig, request.options);
+  if (full_out != nullptr) *full_out = std::move(full);
+  return model;
 }
 
 CalibrateOutput CalibrateDataset(const std::filesystem::path& dataset, const CalibrationOptions& options) {
@@ -175,12 +177,12 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
     flight_path = ReadFlightPath(options.dataset / kFlightPathName);
   }
   const TriangleMesh mesh = LoadReceiverMesh(options.receiver_model.value_or(options.dataset / kReceiverModelName));
-  const ReferenceModel reference = BuildReferenceModel(mesh, rig, options.reference);
+  ReferenceModel full_surface;  // for FrameAnalysisOptions::pair_sensed_with_full_surface
+  const ReferenceModel reference = BuildReferenceModel(mesh, rig, options.reference, &full_surface);
   if (options.progress) {
     std::fprintf(stderr, "reference model '%s': %zu points\n", reference.name.c_str(),
                  reference.points_in_receiver.size());
   }
-  const ReferenceModel full_surface = FullModel(mesh, options.reference.options);
   const FrameAnalyzer analyzer(calibration, rig.left.tanker_from_camera, reference, options.frame, &full_surface);
 
   const nlohmann::json run = {{"schema", "aar-run/1"},

@@ -19,6 +19,17 @@ double MillisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+// R1^T as a transform: rectified left camera to left camera.
+Eigen::Isometry3d LeftFromRectLeft(const StereoCalibration& calibration) {
+  cv::Mat r1;
+  calibration.R1.convertTo(r1, CV_64F);
+  Eigen::Isometry3d left_from_rect_left = Eigen::Isometry3d::Identity();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) left_from_rect_left.linear()(i, j) = r1.at<double>(j, i);
+  }
+  return left_from_rect_left;
+}
+
 // Reads one image of the pair, checking its hash against the sidecar and the manifest.
 cv::Mat ReadImage(const std::filesystem::path& dataset, const FileRef& ref,
                   const std::map<std::string, std::string>& expected_hashes) {
@@ -100,6 +111,7 @@ FrameAnalyzer::FrameAnalyzer(const StereoCalibration& calibration, const Eigen::
     : calibration_(calibration),
       tanker_from_left_(tanker_from_left),
       focal_times_baseline_px_m_(std::abs(calibration.Q.at<double>(2, 3) / calibration.Q.at<double>(3, 2))),
+      tanker_from_rect_left_(tanker_from_left * LeftFromRectLeft(calibration)),
       rectifier_(calibration),
       model_points_(model.points_in_receiver),
       options_(options) {
@@ -155,11 +167,6 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
     return cv::Rect(cv::Point(roi.x - reach, roi.y - d.block_size), cv::Point(roi.br().x, roi.br().y + d.block_size)) &
            image;
   };
-  Eigen::Isometry3d left_from_rect_left = Eigen::Isometry3d::Identity();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) left_from_rect_left.linear()(i, j) = calibration_.R1.at<double>(j, i);
-  }
-  const Eigen::Isometry3d tanker_from_rect_left = tanker_from_left_ * left_from_rect_left;
   SensedCloud cloud;
   Registered icp{};
   r.times.rectify_ms = r.times.disparity_ms = r.times.reproject_ms = r.times.icp_ms = 0.0;
@@ -197,7 +204,7 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
           CompareWithTruth(cloud.pixels, *truth, calibration_, {}, options_.register_truth_cloud ? &ideal : nullptr);
       if (options_.register_truth_cloud) {
         cloud.points_in_tanker.clear();
-        for (const Eigen::Vector3d& p : ideal) cloud.points_in_tanker.push_back(tanker_from_rect_left * p);
+        for (const Eigen::Vector3d& p : ideal) cloud.points_in_tanker.push_back(tanker_from_rect_left_ * p);
       }
     }
 
@@ -226,19 +233,13 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
 
 cv::Rect FrameAnalyzer::PredictedRegion(const Eigen::Isometry3d& tanker_from_receiver, double margin_fraction,
                                         int margin_px) const {
-  // Model points in the rectified left image: (f x / z + cx, f y / z + cy) after R1.
-  cv::Mat r1;
-  calibration_.R1.convertTo(r1, CV_64F);
-  Eigen::Matrix3d rect_from_left;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) rect_from_left(i, j) = r1.at<double>(i, j);
-  }
+  // Model points in the rectified left image: (f x / z + cx, f y / z + cy).
   const double f = calibration_.P1.at<double>(0, 0), cx = calibration_.P1.at<double>(0, 2);
   const double fy = calibration_.P1.at<double>(1, 1), cy = calibration_.P1.at<double>(1, 2);
-  const Eigen::Isometry3d left_from_receiver = tanker_from_left_.inverse() * tanker_from_receiver;
+  const Eigen::Isometry3d rect_left_from_receiver = tanker_from_rect_left_.inverse() * tanker_from_receiver;
   double u0 = std::numeric_limits<double>::infinity(), v0 = u0, u1 = -u0, v1 = -u0;
   for (const Eigen::Vector3d& m : model_points_) {
-    const Eigen::Vector3d p = rect_from_left * (left_from_receiver * m);
+    const Eigen::Vector3d p = rect_left_from_receiver * m;
     if (!(p.z() > 0.0)) return cv::Rect();  // behind the camera: no region
     u0 = std::min(u0, f * p.x() / p.z() + cx);
     u1 = std::max(u1, f * p.x() / p.z() + cx);

@@ -25,14 +25,6 @@ struct Pairs {
   double Mse() const { return model.empty() ? 0.0 : sum_squared / static_cast<double>(model.size()); }
 };
 
-void CheckFinite(const std::vector<Eigen::Vector3d>& points, const char* what) {
-  for (size_t i = 0; i < points.size(); ++i) {
-    if (!points[i].allFinite()) {
-      throw Error(std::string("ICP: ") + what + " point " + std::to_string(i) + " is not finite");
-    }
-  }
-}
-
 }  // namespace
 
 std::string ToString(IcpCorrespondence correspondence) {
@@ -98,7 +90,7 @@ IcpRegistration::IcpRegistration(std::vector<Eigen::Vector3d> model_points_in_re
     : model_(std::move(model_points_in_receiver)), options_(options) {
   options_.Check();
   if (model_.empty()) throw Error("ICP: the reference model is empty");
-  CheckFinite(model_, "model");
+  CheckFinitePoints(model_, "ICP: model point");
   if (options_.correspondence == IcpCorrespondence::kSensedToModel) {
     model_tree_ = std::make_unique<KdTree3d>(model_, options_.kdtree_leaf_size);
   }
@@ -109,7 +101,7 @@ IcpRegistration::~IcpRegistration() = default;
 IcpResult IcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
                                     const Eigen::Isometry3d& initial_tanker_from_receiver) const {
   if (sensed.empty()) throw Error("ICP: the sensed point cloud is empty");
-  CheckFinite(sensed, "sensed");
+  CheckFinitePoints(sensed, "ICP: sensed point");
   const bool model_to_sensed = options_.correspondence == IcpCorrespondence::kModelToSensed;
   std::unique_ptr<KdTree3d> sensed_tree;
   if (model_to_sensed) sensed_tree = std::make_unique<KdTree3d>(sensed, options_.kdtree_leaf_size);

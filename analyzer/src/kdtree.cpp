@@ -65,6 +65,12 @@ struct KdTree3d::Impl {
   std::unique_ptr<NanoflannTree> tree;
 };
 
+void CheckFinitePoints(const std::vector<Eigen::Vector3d>& points, const std::string& what) {
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite()) throw Error(what + " " + std::to_string(i) + " is not finite");
+  }
+}
+
 KdTree3d::KdTree3d(std::vector<Eigen::Vector3d> points, int leaf_size) : impl_(std::make_unique<Impl>()) {
   if (points.size() > static_cast<size_t>(UINT32_MAX)) throw Error("KdTree3d: too many points");
   impl_->points = std::move(points);

@@ -58,14 +58,6 @@ struct NormalEquations {
   }
 };
 
-void CheckPoints(const std::vector<Eigen::Vector3d>& points, const char* what) {
-  for (size_t i = 0; i < points.size(); ++i) {
-    if (!points[i].allFinite()) {
-      throw Error(std::string("point-to-plane ICP: ") + what + " " + std::to_string(i) + " is not finite");
-    }
-  }
-}
-
 }  // namespace
 
 std::string ToString(PlanePairing pairing) {
@@ -104,8 +96,8 @@ PlaneIcpRegistration::PlaneIcpRegistration(std::vector<Eigen::Vector3d> model_po
   options_.Check();
   if (model_.empty()) throw Error("point-to-plane ICP: the reference model is empty");
   if (normals_.size() != model_.size()) throw Error("point-to-plane ICP: the model needs one normal per point");
-  CheckPoints(model_, "model point");
-  CheckPoints(normals_, "model normal");
+  CheckFinitePoints(model_, "point-to-plane ICP: model point");
+  CheckFinitePoints(normals_, "point-to-plane ICP: model normal");
   if (!(geometry_.focal_px > 0.0) || !(geometry_.focal_times_baseline_px_m > 0.0)) {
     throw Error("point-to-plane ICP: the noise geometry needs positive f and f b");
   }
@@ -119,8 +111,8 @@ void PlaneIcpRegistration::SetSensedPairingSurface(std::vector<Eigen::Vector3d> 
   if (points_in_receiver.empty() || normals_in_receiver.size() != points_in_receiver.size()) {
     throw Error("point-to-plane ICP: the pairing surface needs points and one normal per point");
   }
-  CheckPoints(points_in_receiver, "surface point");
-  CheckPoints(normals_in_receiver, "surface normal");
+  CheckFinitePoints(points_in_receiver, "point-to-plane ICP: surface point");
+  CheckFinitePoints(normals_in_receiver, "point-to-plane ICP: surface normal");
   surface_ = std::move(points_in_receiver);
   surface_normals_ = std::move(normals_in_receiver);
   surface_tree_ = std::make_unique<KdTree3d>(surface_, options_.kdtree_leaf_size);
@@ -129,7 +121,7 @@ void PlaneIcpRegistration::SetSensedPairingSurface(std::vector<Eigen::Vector3d> 
 PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
                                               const Eigen::Isometry3d& initial_tanker_from_receiver) const {
   if (sensed.empty()) throw Error("point-to-plane ICP: the sensed point cloud is empty");
-  CheckPoints(sensed, "sensed point");
+  CheckFinitePoints(sensed, "point-to-plane ICP: sensed point");
   const PlaneIcpOptions& o = options_;
   const bool symmetric = o.pairing == PlanePairing::kSymmetric;
   const std::vector<SensedNoise> noise = NoiseOf(sensed, geometry_, o);

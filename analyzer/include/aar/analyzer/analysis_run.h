@@ -31,7 +31,9 @@ struct ReferenceRequest {
 };
 
 /// Builds the reference cloud from a receiver mesh and a rig; throws on an unknown model name.
-ReferenceModel BuildReferenceModel(const TriangleMesh& mesh, const StereoRig& rig, const ReferenceRequest& request);
+/// `full_out`, when given, receives the full model the shell was cut from (or the model itself).
+ReferenceModel BuildReferenceModel(const TriangleMesh& mesh, const StereoRig& rig, const ReferenceRequest& request,
+                                   ReferenceModel* full_out = nullptr);
 
 struct CalibrateOutput {
   CalibrationResult result;

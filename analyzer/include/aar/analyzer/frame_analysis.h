@@ -137,7 +137,8 @@ class FrameAnalyzer {
  private:
   StereoCalibration calibration_;
   Eigen::Isometry3d tanker_from_left_;
-  double focal_times_baseline_px_m_;  // f b = Q(2,3) / Q(3,2)
+  double focal_times_baseline_px_m_;         // f b = Q(2,3) / Q(3,2)
+  Eigen::Isometry3d tanker_from_rect_left_;  // tanker_from_left * R1^T
   Rectifier rectifier_;
   std::vector<Eigen::Vector3d> model_points_;
   std::unique_ptr<IcpRegistration> point_icp_;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -38,6 +39,10 @@ class KdTree3d {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// Throws aar::Error "`what` I is not finite" for the first point with a NaN
+/// or infinite coordinate.
+void CheckFinitePoints(const std::vector<Eigen::Vector3d>& points, const std::string& what);
 
 /// |a - b|^2 summed in nanoflann's order (L2_Simple_Adaptor::evalMetric), so
 /// distances computed with it and inside the tree are bitwise equal.
