@@ -65,7 +65,7 @@ struct RunFlags {
   std::string calibration, receiver, frames, shard, disparity = "bm";
   std::optional<std::string> seed, registration, correspondence, pairing;
   std::optional<int> icp_iterations, num_disparities, block_size;
-  std::optional<double> max_correspondence_m, disparity_offset_px, disparity_noise_px, gate_sigmas;
+  std::optional<double> max_correspondence_m, disparity_offset_px, disparity_noise_px, gate_sigmas, model_pull_scale_m;
   std::optional<size_t> keep_one_in, target_points, model_queries;
   std::optional<bool> halo, subpixel, rounding, widen, balance, full_surface;
   bool truth_cloud = false, track = false;
@@ -96,6 +96,9 @@ struct RunFlags {
     cmd->add_option(
         "--gate-sigmas", gate_sigmas,
         "point-to-plane: pairs beyond this many along-ray sigmas (or --max-correspondence) are ignored (3)");
+    cmd->add_option("--model-pull-scale", model_pull_scale_m,
+                    "symmetric pairing: model-to-sensed pairs weigh s^2 / (s^2 + t^2), s their along-ray sigma, t this "
+                    "[m] (0.5; 0 = always fully)");
     cmd->add_option("--model-queries", model_queries,
                     "symmetric pairing: model points that query the cloud per iteration, at most (4000; 0 = all)");
     cmd->add_option("--icp-iterations", icp_iterations, "ICP iterations at most (thesis 30, default 60)");
@@ -163,6 +166,7 @@ struct RunFlags {
     if (gate_sigmas) f.plane_icp.gate_sigmas = *gate_sigmas;
     if (full_surface) f.pair_sensed_with_full_surface = *full_surface;
     if (model_queries) f.plane_icp.max_model_queries = *model_queries;
+    if (model_pull_scale_m) f.plane_icp.model_pull_scale_m = *model_pull_scale_m;
     if (disparity_offset_px) f.reprojection.disparity_offset_px = *disparity_offset_px;
     if (disparity_noise_px) f.plane_icp.disparity_noise_px = f.disparity_noise_px = *disparity_noise_px;
     if (keep_one_in) f.reprojection.keep_one_in = *keep_one_in;

@@ -69,6 +69,9 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
   cmd.add_option("--rig", f.job.rig, "camera rig JSON")->capture_default_str();
   if (calib) {
     cmd.add_option("--board", f.job.board_model, "calibration board glTF")->capture_default_str();
+    cmd.add_option("--far-boards", f.job.far_boards_m,
+                   "also render the twelve board tilts at these distances along the optical axis [m], e.g. 30,45")
+        ->delimiter(',');
   } else {
     cmd.add_option("--flight-path", f.job.flight_path,
                    "flight-path CSV (time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg)")

@@ -38,6 +38,10 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
     const PlaneIcpOptions& p = f.plane_icp;
     registration.update({{"max_iterations", p.max_iterations},
                          {"pairing", ToString(p.pairing)},
+                         {"sensed_pairing_surface", f.pair_sensed_with_full_surface ? "full" : "model"},
+                         {"model_pull_scale_m", p.model_pull_scale_m},
+                         {"gate_sigmas", p.gate_sigmas},
+                         {"max_model_queries", p.max_model_queries},
                          {"max_correspondence_distance_m", Finite(p.max_correspondence_distance_m)},
                          {"robust_scale", p.robust_scale},
                          {"disparity_noise_px", p.disparity_noise_px},

@@ -79,6 +79,9 @@ void PlaneIcpOptions::Check() const {
   }
   if (!(robust_scale > 0.0)) throw Error("point-to-plane ICP: robust_scale must be > 0");
   if (max_model_queries > 100000000) throw Error("point-to-plane ICP: max_model_queries is too large");
+  if (!(model_pull_scale_m >= 0.0) || !std::isfinite(model_pull_scale_m)) {
+    throw Error("point-to-plane ICP: model_pull_scale_m must be finite and >= 0");
+  }
   if (!(gate_sigmas >= 0.0)) throw Error("point-to-plane ICP: gate_sigmas must be >= 0");
   if (!(disparity_noise_px >= 0.0) || !(lateral_noise_px >= 0.0) || !(surface_noise_m > 0.0)) {
     throw Error("point-to-plane ICP: noise model needs disparity/lateral noise >= 0 and surface noise > 0");
@@ -179,8 +182,12 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
         const Eigen::Vector3d p = tanker_from_receiver * model_[j];
         const auto [i, squared] = to_sensed->Find(j, p);
         if (i == CachedNearest::kNone || squared > noise[i].gate_squared) continue;
-        equations.Add(p, rotation * normals_[j], sensed[i], noise[i], centre, o, balance * static_cast<double>(stride),
-                      unused);
+        const double pull =
+            o.model_pull_scale_m > 0.0
+                ? noise[i].ray_variance / (noise[i].ray_variance + o.model_pull_scale_m * o.model_pull_scale_m)
+                : 1.0;
+        equations.Add(p, rotation * normals_[j], sensed[i], noise[i], centre, o,
+                      pull * balance * static_cast<double>(stride), unused);
       }
     }
     const double rmse =

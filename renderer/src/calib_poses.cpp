@@ -1,6 +1,7 @@
 #include "aar/renderer/calib_poses.h"
 
 #include "aar/error.h"
+#include "aar/text.h"
 
 namespace aar {
 namespace {
@@ -35,14 +36,19 @@ std::vector<Pose> CalibrationBoardPoses(const StereoRig& rig, const CalibPoseOpt
   const std::vector<Eigen::Vector3d> outline = BoardOutline(options);
   const Eigen::Vector3d centre_in_board((options.board.inner_corners_x - 1) * options.board.square_m / 2.0,
                                         (options.board.inner_corners_y - 1) * options.board.square_m / 2.0, 0.0);
+  for (const double far_m : options.far_distances_m) {
+    if (!(far_m >= options.min_distance_m && far_m <= 1000.0)) {
+      throw Error("calibration boards: a far distance must be in " + FormatFixed(options.min_distance_m, 1) +
+                  "..1000 m, got " + FormatFixed(far_m, 3));
+    }
+  }
   std::vector<Pose> poses;
-  for (const Tilt& tilt : kTilts) {
+  const auto place = [&](const Tilt& tilt, double first_m, double last_m) {
     // Board axes follow the camera's (x right, y down, z away), then tilt.
     const Eigen::Matrix3d left_from_board_rotation =
         RotationFromRollPitchYaw(tilt.about_x_deg, tilt.about_y_deg, tilt.about_z_deg);
     bool placed = false;
-    for (double distance = options.min_distance_m; distance < options.min_distance_m + 40.0 && !placed;
-         distance += 0.25) {
+    for (double distance = first_m; distance < last_m && !placed; distance += 0.25) {
       Eigen::Isometry3d left_from_board = Eigen::Isometry3d::Identity();
       left_from_board.linear() = left_from_board_rotation;
       left_from_board.translation() =
@@ -60,6 +66,10 @@ std::vector<Pose> CalibrationBoardPoses(const StereoRig& rig, const CalibPoseOpt
       }
     }
     if (!placed) throw Error("calibration board does not fit both views for a tilt; check the rig");
+  };
+  for (const Tilt& tilt : kTilts) place(tilt, options.min_distance_m, options.min_distance_m + 40.0);
+  for (const double far_m : options.far_distances_m) {
+    for (const Tilt& tilt : kTilts) place(tilt, far_m, far_m + 0.125);
   }
   return poses;
 }

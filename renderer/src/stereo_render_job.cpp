@@ -221,7 +221,9 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   options.Check();
   const StereoRig rig = LoadRig(options.rig);
   const SceneModel board = LoadSceneModel(options.board_model);
-  const std::vector<Pose> poses = CalibrationBoardPoses(rig);
+  CalibPoseOptions pose_options;
+  pose_options.far_distances_m = options.far_boards_m;
+  const std::vector<Pose> poses = CalibrationBoardPoses(rig, pose_options);
   CheckOutputFolder(options.output);
   Session session = OpenSession(options, rig);
   const int board_index = session.renderer->AddModel(board);
@@ -234,6 +236,7 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
                                      {"sha256", Sha256File(options.board_model)}};
   header["calib"] = {
       {"count", poses.size()},
+      {"far_distances_m", options.far_boards_m},
       {"msaa", MsaaJson(session.plan)},
       {"texture_anisotropy", options.anisotropy},
       {"board", {{"inner_corners", {spec.inner_corners_x, spec.inner_corners_y}}, {"square_m", spec.square_m}}}};

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "aar/error.h"
 #include "aar/renderer/calib_poses.h"
 
 namespace aar {
@@ -60,6 +61,27 @@ TEST(CalibPoses, TwelveBoardPosesFitBothViews) {
       }
     }
   }
+}
+
+TEST(CalibPoses, FarDistancesRepeatTheTwelveTiltsThere) {
+  StereoRig rig;
+  rig.right.tanker_from_camera.translation() = Eigen::Vector3d(0.5, 0, 0);
+  CalibPoseOptions options;
+  options.far_distances_m = {30.0, 45.0};
+  const std::vector<Pose> poses = CalibrationBoardPoses(rig, options);
+  ASSERT_EQ(poses.size(), 36u);
+  const std::vector<Pose> near = CalibrationBoardPoses(rig);
+  const Eigen::Vector3d centre_in_board((options.board.inner_corners_x - 1) * options.board.square_m / 2.0,
+                                        (options.board.inner_corners_y - 1) * options.board.square_m / 2.0, 0.0);
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const Eigen::Isometry3d left_from_board = rig.left.tanker_from_camera.inverse() * IsometryFromPose(poses[i]);
+    // Same tilt as the near set; the board centre at the requested distance.
+    EXPECT_TRUE(left_from_board.linear().isApprox(
+        (rig.left.tanker_from_camera.inverse() * IsometryFromPose(near[i % 12])).linear(), 1e-12));
+    if (i >= 12) EXPECT_NEAR((left_from_board * centre_in_board).z(), i < 24 ? 30.0 : 45.0, 1e-9);
+  }
+  options.far_distances_m = {5.0};  // nearer than the near set
+  EXPECT_THROW(CalibrationBoardPoses(rig, options), Error);
 }
 
 }  // namespace

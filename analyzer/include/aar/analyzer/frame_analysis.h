@@ -71,7 +71,7 @@ struct FrameAnalysisOptions {
   PlaneIcpOptions plane_icp;  ///< for kPointToPlane
   /// kPointToPlane with a shelled model: pair sensed points with the full
   /// model's surface (PlaneIcpRegistration::SetSensedPairingSurface).
-  bool pair_sensed_with_full_surface = false;
+  bool pair_sensed_with_full_surface = true;
   IcpOptions icp;  ///< for kPointToPoint (thesis 3.6: 30 iterations)
   IcpSeed seed = IcpSeed::kCentroid;
   /// Tracking (once a frame is measured): rectify and match only the region

@@ -23,7 +23,8 @@
 // (well-conditioned 6x6 normal equations, Eigen LDLT). Pairing is from the
 // sensed points to the model (a sensed point always has a model surface), or
 // both ways (each model point also pulls towards its nearest sensed point,
-// which constrains the extent of the receiver along the rays). Iterations stop
+// which constrains the extent of the receiver along the rays; those pulls
+// grow with the paired point's depth noise, model_pull_scale_m). Iterations stop
 // when a step moves less than both tolerances.
 //
 // Single-threaded, fixed summation order: bitwise repeatable.
@@ -66,6 +67,17 @@ struct PlaneIcpOptions {
   /// Symmetric pairing: at most this many model points query the sensed
   /// cloud per iteration (every k-th, weighted k); 0 = all.
   size_t max_model_queries = 4000;
+  /// Symmetric pairing: a model-to-sensed pair counts
+  /// sigma_ray^2 / (sigma_ray^2 + t^2) of its weight, t = this [m] (0: all of
+  /// it). Where the cloud's depth noise is small against the scale of the
+  /// receiver's surface separations (fuselage radius 0.73-0.82 m, wing and
+  /// tail thicknesses 0.1-0.35 m; t = 0.5 m sits between them), each sensed
+  /// point finds its own surface and the sensed-to-model pairs alone are
+  /// unbiased, while nearest-neighbour pairs from the model into a noisy,
+  /// eroded cloud pull the estimate along the rays; where the noise is large
+  /// the sensed-to-model pairs become ambiguous and the model-to-sensed pairs
+  /// hold the receiver's extent (docs/analysis.md measures both ends).
+  double model_pull_scale_m = 0.5;
   /// Coarse-to-fine: iterate on every k-th point of both clouds until the
   /// steps are below ten times the tolerances, then on all; 1 = off.
   size_t coarse_stride = 8;

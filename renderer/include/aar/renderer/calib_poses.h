@@ -15,6 +15,12 @@ struct CalibPoseOptions {
   double min_distance_m = 15.0;  ///< closest board-centre distance along the left optical axis [m]
   double border_m = 0.5;         ///< white border around the squares [m]
   double margin_px = 12.0;       ///< keep the board this far inside each image [px]
+  /// Every tilt is placed again with its centre at each of these distances
+  /// along the left optical axis [m] (empty: none, the thesis's single set).
+  /// Boards at one distance leave the cameras' focal-length ratio and the
+  /// baseline's component along the optical axis nearly indistinguishable
+  /// (both scale one image against the other); more distances separate them.
+  std::vector<double> far_distances_m;
   BoardSpec board;
 };
 
@@ -23,7 +29,8 @@ std::vector<Eigen::Vector3d> BoardOutline(const CalibPoseOptions& options);
 
 /// Twelve poses tanker_from_board: tilts of up to 30 degrees about the board's
 /// x and y axes and up to 15 degrees about its normal, each pushed back from
-/// `min_distance_m` in 0.25 m steps until the outline fits both images.
+/// `min_distance_m` in 0.25 m steps until the outline fits both images; then
+/// the same twelve tilts at each of far_distances_m.
 std::vector<Pose> CalibrationBoardPoses(const StereoRig& rig, const CalibPoseOptions& options = {});
 
 }  // namespace aar

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "aar/frame_selection.h"
 
@@ -22,9 +23,10 @@ struct RenderJobOptions {
   int msaa = 16;                                                 ///< 1, 4, 8, 16 or 32 samples per pixel
   float anisotropy = 1.0f;                                       ///< texture anisotropic filtering (1 = trilinear)
   bool depth = false;                                            ///< also write left-camera depth EXR (render job)
-  FrameSelection selection;                                      ///< frames (or calib pairs) to render
-  std::string device;                                            ///< Vulkan device name filter ("" = lavapipe first)
-  bool progress = true;                                          ///< progress line on stderr
+  std::vector<double> far_boards_m;  ///< calib job: the twelve board tilts again at each distance [m]
+  FrameSelection selection;          ///< frames (or calib pairs) to render
+  std::string device;                ///< Vulkan device name filter ("" = lavapipe first)
+  bool progress = true;              ///< progress line on stderr
 
   /// Throws aar::Error naming the option (its command-line flag) when a value
   /// is out of range; the jobs call it before reading any input.
