@@ -21,10 +21,11 @@ struct RenderJobOptions {
   std::filesystem::path flight_path = "flightpaths/conops.csv";  ///< flight path (render job)
   int msaa = 16;                                                 ///< 1, 4, 8, 16 or 32 samples per pixel
   float anisotropy = 1.0f;                                       ///< texture anisotropic filtering (1 = trilinear)
-  bool depth = false;                                            ///< also write left-camera depth EXR (render job)
-  FrameSelection selection;                                      ///< frames (or calib pairs) to render
-  std::string device;                                            ///< Vulkan device name filter ("" = lavapipe first)
-  bool progress = true;                                          ///< progress line on stderr
+  bool depth = false;        ///< also write left-camera depth EXR, object ids and receiver silhouette (render job)
+  bool depth_right = false;  ///< the same for the right camera (implies `depth`)
+  FrameSelection selection;  ///< frames (or calib pairs) to render
+  std::string device;        ///< Vulkan device name filter ("" = lavapipe first)
+  bool progress = true;      ///< progress line on stderr
 
   /// Throws aar::Error naming the option (its command-line flag) when a value
   /// is out of range; the jobs call it before reading any input.
