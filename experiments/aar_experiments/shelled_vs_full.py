@@ -128,5 +128,6 @@ def region_overlays(ctx, rep, res, stem):
             continue
         path = ctx.out / f"{stem}_overlay_{g}.png"
         shutil.copyfile(source, path)
+        status = "ok" if row["status"] == "ok" else "not measured: " + row["status"].split(": ", 1)[-1]
         rep.image(path, f"Region {g}: frame {frame} at {row['range_m']:.1f} m, shelled model registered "
-                        f"(status {row['status']})")
+                        f"(status {status})")
