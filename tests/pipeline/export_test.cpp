@@ -257,6 +257,20 @@ TEST(Export, WithoutDepthTruthFailsNamingTheSidecarAndWritesNothing) {
   EXPECT_NE(r.output.find("--format 'xyz': expected bop, middlebury, tum or ros"), std::string::npos) << r.output;
 }
 
+TEST(Export, ChangedSidecarFailsNamingItAndWritesNothing) {
+  ASSERT_DATASETS();
+  TempDir dir("export-changed");
+  const fs::path dataset = dir / "ds";
+  test::CopyDataset(SharedDatasets().out_of_view, dataset);
+  WriteFileAtomic(SidecarPath(dataset, "frame", 1), ReadFileBytes(SidecarPath(dataset, "frame", 1)) + " ");
+  const fs::path out = dir / "tum";
+  const test::CommandResult r = RunAnalyze("export " + Quote(dataset) + " --format tum --out " + Quote(out));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(test::CountLines(r.output), 1u) << r.output;
+  EXPECT_NE(r.output.find("frames/000001.json: SHA-256 differs from manifest.json's"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out)) << out;
+}
+
 // `run --dump-frames`: the overlay's model points and the disparity lie on the
 // receiver (the dataset's silhouette truth), the PLYs hold the run's clouds.
 TEST(FrameDump, OverlayAndDisparityLieOnTheReceiver) {
