@@ -11,11 +11,10 @@ every MODEL point with its nearest sensed point. Experiments 1 and 2 are
 therefore run with the analyzer's default pairing and again with that one.
 """
 
-import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import report
+from . import plots, report
 from .outputs import group_table, group_table_counts, pairing_of, read_frames, read_json, sidecar
 from .report import COMPARISON_HEADERS, comparison_rows
 from .runner import analyze, render_calib, render_frames
@@ -113,12 +112,12 @@ def model_error_plots(ctx, rep, res, stem, figures, what, guides):
 
 def region_overlays(ctx, rep, res, stem):
     """One overlay of the registered shelled model on the left image per region (`--dump-frames`),
-    copied beside the report as <stem>_overlay_<region>.png."""
+    cropped around the model, beside the report as <stem>_overlay_<region>.png."""
     rep.h("The registered model on the left image, one frame per region")
     rep.p("`aar-analyze run --dump-frames` of the shelled run (default pairing): the reference model's points at "
           "the estimated pose in green, the estimated receiver origin as a green cross and the true one as a red "
-          "cross. The same folder holds each frame's colour-mapped disparity and the sensed cloud and the "
-          "registered model as PLY.")
+          "cross; cropped around the model. The run's `frames/` folder also holds each frame's colour-mapped "
+          "disparity, and the sensed cloud and the registered model as PLY.")
     rows = {r["frame"]: r for r in res.frames["shelled"]}
     for g, frame in sorted(res.overlay_frames.items()):
         source = res.runs["shelled"] / "frames" / f"{frame:06d}_overlay.png"
@@ -126,8 +125,7 @@ def region_overlays(ctx, rep, res, stem):
         if not source.is_file():
             rep.p(f"Region {g}, frame {frame}: no estimate, no overlay ({row.get('status', 'not analyzed')}).")
             continue
-        path = ctx.out / f"{stem}_overlay_{g}.png"
-        shutil.copyfile(source, path)
+        path = plots.crop_to_green(source, ctx.out / f"{stem}_overlay_{g}.png")
         status = "ok" if row["status"] == "ok" else "not measured: " + row["status"].split(": ", 1)[-1]
         rep.image(path, f"Region {g}: frame {frame} at {row['range_m']:.1f} m, shelled model registered "
                         f"(status {status})")
