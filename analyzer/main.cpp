@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "aar/analyzer/analysis_run.h"
+#include "aar/analyzer/dataset_export.h"
 #include "aar/analyzer/mesh.h"
 #include "aar/analyzer/ply.h"
 #include "aar/error.h"
@@ -69,6 +70,7 @@ struct RunFlags {
   std::optional<size_t> keep_one_in, target_points, model_queries;
   std::optional<bool> halo, subpixel, rounding, widen, balance, full_surface;
   bool truth_cloud = false, track = false;
+  std::vector<size_t> dump_frames;
 
   void Add(CLI::App* cmd) {
     aar::AnalysisRunOptions& o = options;
@@ -126,6 +128,13 @@ struct RunFlags {
     cmd->add_flag(
         "--no-progress", [this](int64_t) { options.progress = false; }, "quiet stderr");
   }
+  // `run` only: per listed frame, disparity, clouds and overlay into OUT/frames/.
+  void AddDump(CLI::App* cmd) {
+    cmd->add_option("--dump-frames", dump_frames,
+                    "frame indices (comma-separated) whose colour-mapped disparity, sensed cloud, registered model "
+                    "(PLY) and overlay on the left image are written into OUT/frames/")
+        ->delimiter(',');
+  }
 
   void Resolve() {
     aar::AnalysisRunOptions& o = options;
@@ -174,6 +183,7 @@ struct RunFlags {
     f.register_truth_cloud = truth_cloud;
     f.track_region = track;
     f.Check();
+    o.dump_frames = dump_frames;
     if (o.out.empty()) o.out = std::filesystem::path("results") / (DatasetName(o.dataset) + "-" + o.reference.model);
   }
 };
@@ -261,7 +271,10 @@ int RunRunOrBench(int argc, char** argv, bool bench) {
                bench ? "aar-analyze bench" : "aar-analyze run"};
   RunFlags flags;
   flags.Add(&app);
-  if (!bench) app.add_option("--out", flags.options.out, "output folder (default: results/<dataset>-<model>)");
+  if (!bench) {
+    app.add_option("--out", flags.options.out, "output folder (default: results/<dataset>-<model>)");
+    flags.AddDump(&app);
+  }
   if (const auto code = Parse(app, argc, argv)) return *code;
   flags.Resolve();
   if (bench) {
@@ -292,6 +305,33 @@ int RunMerge(int argc, char** argv) {
   return 0;
 }
 
+int RunExport(int argc, char** argv) {
+  CLI::App app{"write a dataset in another tool's format (docs/dataset-format.md, Exports)", "aar-analyze export"};
+  aar::ExportOptions options;
+  std::string format, frames;
+  std::filesystem::path run;
+  app.add_option("dataset", options.dataset, "dataset folder")->required();
+  app.add_option("--format", format,
+                 "bop (6-DoF pose benchmark), middlebury (stereo: calib.txt, disparity truth), tum (trajectories), "
+                 "ros (CameraInfo YAML)")
+      ->required();
+  app.add_option("--out", options.out, "output folder (created)")->required();
+  app.add_option("--frames", frames, "half-open range a:b of frame indices (default: all)");
+  app.add_option("--run", run, "tum: an `aar-analyze run` folder of this dataset; writes its estimates too");
+  if (const auto code = Parse(app, argc, argv)) return *code;
+  const aar::ExportFormat parsed = aar::ParseExportFormat(format);
+  options.selection = aar::ParseFrameSelection(frames, "0/1");  // one output: never sharded by Slurm variables
+  if (!run.empty()) {
+    if (parsed != aar::ExportFormat::kTum) throw aar::Error("--run: only with --format tum");
+    options.run = run;
+  }
+  const aar::ExportResult result = aar::ExportDataset(parsed, options);
+  for (const std::string& note : result.notes) std::fprintf(stderr, "note: %s\n", note.c_str());
+  std::fprintf(stderr, "%s: %zu frames, %zu files in %s\n", aar::ToString(parsed).c_str(), result.frames,
+               result.files.size(), options.out.c_str());
+  return 0;
+}
+
 struct Command {
   const char* name;
   int (*run)(int argc, char** argv);
@@ -304,6 +344,7 @@ constexpr Command kCommands[] = {
     {"run", RunRun, "analyze every frame (or a selection) and summarise per region"},
     {"bench", RunBench, "time the pipeline stages per frame (median, one core); writes nothing"},
     {"merge", RunMerge, "combine the outputs of shard runs into one summary"},
+    {"export", RunExport, "write a dataset as BOP, Middlebury, TUM trajectories or ROS CameraInfo"},
 };
 
 void PrintUsage(FILE* out) {

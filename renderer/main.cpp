@@ -78,7 +78,9 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
         ->capture_default_str();
     cmd.add_option("--receiver", f.job.receiver_model, "receiver glTF")->capture_default_str();
     cmd.add_option("--tanker", f.job.tanker_model, "tanker glTF")->capture_default_str();
-    cmd.add_flag("--depth", f.job.depth, "also write left-camera ground-truth depth (EXR, metres)");
+    cmd.add_flag("--depth", f.job.depth,
+                 "also write left-camera ground-truth depth (EXR, metres), object ids and receiver silhouette");
+    cmd.add_flag("--depth-right", f.job.depth_right, "also write the same for the right camera (implies --depth)");
   }
   cmd.add_option("--msaa", f.job.msaa, "samples per pixel: 1, 4, 8, 16 or 32 (composed when not native)")
       ->capture_default_str();

@@ -1,7 +1,9 @@
 #include "aar/analyzer/analysis_run.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <set>
 
 #include "aar/analyzer/mesh.h"
 #include "aar/analyzer/ply.h"
@@ -189,6 +191,13 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
   }
   const FrameAnalyzer analyzer(calibration, rig.left.tanker_from_camera, reference, options.frame, &full_surface);
 
+  const std::vector<size_t> selected = options.selection.Select(manifest.frame_count);
+  for (size_t index : options.dump_frames) {
+    if (!std::binary_search(selected.begin(), selected.end(), index)) {
+      throw Error("--dump-frames " + std::to_string(index) + ": not among the frames analyzed (" +
+                  std::to_string(selected.size()) + " selected of " + std::to_string(manifest.frame_count) + ")");
+    }
+  }
   const nlohmann::json run = {{"schema", "aar-run/1"},
                               {"dataset_manifest_sha256", Sha256File(options.dataset / kManifestName)},
                               {"model", reference.name},
@@ -210,11 +219,23 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
 
   AnalysisRunResult result;
   result.reference_points = reference.points_in_receiver.size();
-  const std::vector<size_t> selected = options.selection.Select(manifest.frame_count);
   Progress progress("analyze " + reference.name, selected.size());
   TrackHistory history;
+  const std::set<size_t> dump_frames(options.dump_frames.begin(), options.dump_frames.end());
+  DumpProjection projection;
+  if (!dump_frames.empty()) {
+    cv::Mat m1;
+    calibration.M1.convertTo(m1, CV_64F);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) projection.left_camera_matrix(i, j) = m1.at<double>(i, j);
+    projection.left_from_tanker = rig.left.tanker_from_camera.inverse();
+    projection.model_points_in_receiver = reference.points_in_receiver;
+  }
   for (size_t index : selected) {
-    FrameResult frame = analyzer.Analyze(options.dataset, index, manifest.files, history);
+    FrameDump dump;
+    const bool dumped = options.write_outputs && dump_frames.contains(index);
+    FrameResult frame = analyzer.Analyze(options.dataset, index, manifest.files, history, dumped ? &dump : nullptr);
+    if (dumped) WriteFrameDump(options.out / kFrameDumpDir, index, dump, projection);
     if (frame.ok()) {
       history.before_last = history.last;
       history.last = std::make_pair(frame.time_s, frame.estimate);

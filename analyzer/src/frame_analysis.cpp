@@ -156,7 +156,7 @@ double FrameAnalyzer::ModelMaxDisparityPx(const Eigen::Isometry3d& tanker_from_r
 FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi,
                                                  const std::optional<Pose>& seed,
                                                  const std::optional<DepthTruth>& truth, const std::string& left_path,
-                                                 FrameResult& r) const {
+                                                 FrameResult& r, FrameDump* dump) const {
   // The region computed: the receiver's predicted box and, to its left, the
   // columns its matches can come from (the disparity search and a block).
   DisparityOptions disparity_options = options_.disparity;
@@ -185,6 +185,12 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
     DisparityMap disparity = ComputeDisparity(rect_left, rect_right, disparity_options);
     if (options_.remove_halo) RemoveHalo(disparity.disparity16, disparity.invalid_value16, options_.halo);
     r.times.disparity_ms += MillisecondsSince(start);
+    if (dump != nullptr) {
+      dump->disparity16 = disparity.disparity16;
+      dump->region = region;
+      dump->invalid_value16 = disparity.invalid_value16;
+      dump->sensed_in_tanker.clear();
+    }
 
     start = std::chrono::steady_clock::now();
     ReprojectionOptions reprojection = options_.reprojection;
@@ -207,6 +213,8 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
         for (const Eigen::Vector3d& p : ideal) cloud.points_in_tanker.push_back(tanker_from_rect_left_ * p);
       }
     }
+
+    if (dump != nullptr) dump->sensed_in_tanker = cloud.points_in_tanker;
 
     start = std::chrono::steady_clock::now();
     icp = Register(cloud.points_in_tanker, seed);
@@ -255,7 +263,7 @@ cv::Rect FrameAnalyzer::PredictedRegion(const Eigen::Isometry3d& tanker_from_rec
 
 FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t index,
                                    const std::map<std::string, std::string>& expected_hashes,
-                                   const TrackHistory& history) const {
+                                   const TrackHistory& history, FrameDump* dump) const {
   const auto frame_start = std::chrono::steady_clock::now();
   FrameResult r;
   r.frame = index;
@@ -278,6 +286,10 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
       throw Error((dataset / sidecar.files.at("left").path).string() + ": image size differs from the calibration's");
     }
     r.times.load_ms = MillisecondsSince(start);
+    if (dump != nullptr) {
+      dump->left_bgr = left;
+      dump->tanker_from_receiver_truth = IsometryFromPose(r.truth);
+    }
 
     const std::string left_path = (dataset / sidecar.files.at("left").path).string();
     std::optional<DepthTruth> truth;
@@ -311,7 +323,7 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
       if (roi.area() > 0) {
         FrameResult attempt = r;
         try {
-          icp = Measure(left, right, roi, seed, truth, left_path, attempt);
+          icp = Measure(left, right, roi, seed, truth, left_path, attempt, dump);
           // Lost when the receiver reaches the region's border: measure the whole image.
           const cv::Rect estimated = PredictedRegion(icp.tanker_from_receiver, 0.0, 0);
           measured = estimated.area() > 0 && (estimated & roi) == estimated;
@@ -326,7 +338,7 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
       }
     }
     if (!measured) {
-      icp = Measure(left, right, cv::Rect(), seed, truth, left_path, r);
+      icp = Measure(left, right, cv::Rect(), seed, truth, left_path, r, dump);
       r.times.rectify_ms += lost_times.rectify_ms;
       r.times.disparity_ms += lost_times.disparity_ms;
       r.times.reproject_ms += lost_times.reproject_ms;
@@ -352,6 +364,7 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
   } catch (const std::exception& e) {  // aar::Error, json or OpenCV errors: the frame is not measured
     r.status = e.what();
   }
+  if (dump != nullptr && r.has_estimate) dump->tanker_from_receiver = IsometryFromPose(r.estimate);
   r.times.total_ms = MillisecondsSince(frame_start);
   return r;
 }

@@ -26,11 +26,13 @@ DepthTruth ReadDepthTruth(const std::filesystem::path& depth_exr, const std::fil
   auto in = OIIO::ImageInput::open(depth_exr.string());
   if (!in) throw Error(depth_exr.string() + ": cannot open depth image (" + OIIO::geterror() + ")");
   const OIIO::ImageSpec& spec = in->spec();
+  // Depth is channel Y (readable by cv::imread); older renderers named it Z.
   int channel = -1;
-  for (int c = 0; c < spec.nchannels; ++c) {
-    if (spec.channelnames[static_cast<size_t>(c)] == "Z") channel = c;
+  for (int c = 0; c < spec.nchannels && channel < 0; ++c) {
+    const std::string& name = spec.channelnames[static_cast<size_t>(c)];
+    if (name == "Y" || name == "Z") channel = c;
   }
-  if (channel < 0) throw Error(depth_exr.string() + ": no channel Z");
+  if (channel < 0) throw Error(depth_exr.string() + ": no depth channel (Y)");
   truth.depth_m.create(spec.height, spec.width, CV_32F);
   if (!in->read_image(0, 0, channel, channel + 1, OIIO::TypeDesc::FLOAT, truth.depth_m.data)) {
     throw Error(depth_exr.string() + ": cannot read depth (" + in->geterror() + ")");

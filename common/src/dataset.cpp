@@ -54,6 +54,11 @@ nlohmann::json SidecarToJson(const FrameSidecar& s) {
   j["in_view"] = {{"left", s.in_view_left}, {"right", s.in_view_right}};
   j["rig"] = RigToJson(s.rig);
   j["right_from_left"] = IsometryToJson(s.rig.RightFromLeft());
+  // cam_from_target = inverse(tanker_from_cam) * tanker_from_target, per camera (OpenCV camera frame).
+  const Eigen::Isometry3d tanker_from_target = IsometryFromPose(s.tanker_from_target);
+  j[calib ? "cam_from_board" : "cam_from_receiver"] = {
+      {"left", IsometryToJson(s.rig.left.tanker_from_camera.inverse() * tanker_from_target)},
+      {"right", IsometryToJson(s.rig.right.tanker_from_camera.inverse() * tanker_from_target)}};
   if (s.board) {
     j["board"] = {{"inner_corners", {s.board->inner_corners_x, s.board->inner_corners_y}},
                   {"square_m", s.board->square_m}};

@@ -9,7 +9,7 @@ from .outputs import ok_rows, read_frames, sidecar
 from .registry import register
 from .report import Report, conclude, fmt, mean_abs, pct_diff, ratio
 from .runner import selection_text
-from .shelled_vs_full import both_pairings, model_error_plots, model_tables, render_and_analyze
+from .shelled_vs_full import both_pairings, model_error_plots, model_tables, region_overlays, render_and_analyze
 from .thesis import BINS, COMPONENT_HEADERS, COMPONENTS, THESIS
 
 
@@ -106,6 +106,7 @@ def _figures(ctx, rep, res):
                                      "(cf. thesis Figure 19; machine-dependent)",
                                "ICP time (s)", series, guides="bins", zero_line=False)
         rep.image(path, f"ICP execution time versus range, both models, {p_name} pairing (cf. thesis Figure 19)")
+    region_overlays(ctx, rep, res, "char")
 
 
 @register("characterization", order=1,

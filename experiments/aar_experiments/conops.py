@@ -11,7 +11,7 @@ from .outputs import ok_rows, read_json, sidecar
 from .registry import register
 from .report import Report, conclude, fmt, mean_abs
 from .runner import analyze, selection_text
-from .shelled_vs_full import both_pairings, model_error_plots, model_tables, render_and_analyze
+from .shelled_vs_full import both_pairings, model_error_plots, model_tables, region_overlays, render_and_analyze
 from .thesis import COMPONENT_HEADERS, COMPONENTS, REGION_RANGES, REGIONS
 
 # Where the thesis saw the receiver's tail leave the view (Figure 24).
@@ -126,6 +126,7 @@ def _figures(ctx, rep, res, vis):
         guides="regions", shade=(TAIL_BAND_M[0], TAIL_BAND_M[1], "thesis: tail out of view"))
     rep.image(path, "Visible fraction of the receiver (sidecar in_view) and shelled position error versus range "
                     "(cf. thesis Figure 24)")
+    region_overlays(ctx, rep, res, "conops")
 
 
 @register("conops", order=2,

@@ -110,3 +110,22 @@ def grouped_bars(path, title, ylabel, categories, series, logy=False):
     ax.grid(True, axis="y", linewidth=0.3)
     ax.legend(fontsize=8)
     return _save(fig, path)
+
+
+def crop_to_green(source, path, min_size=(320, 240)):
+    """Copies the PNG `source` to `path`, cropped to its pure-green pixels (the drawn model of an
+    `aar-analyze run --dump-frames` overlay) with a margin of half their extent, at least `min_size`
+    (width, height) px; the whole image when it has none."""
+    import matplotlib.image as mpimg
+    import numpy as np
+
+    image = mpimg.imread(source)[:, :, :3]
+    green = np.argwhere((image[:, :, 0] == 0) & (image[:, :, 1] == 1) & (image[:, :, 2] == 0))
+    if len(green):
+        (y0, x0), (y1, x1) = green.min(axis=0), green.max(axis=0) + 1
+        half_w = max((x1 - x0) // 2 + (x1 - x0) // 4, min_size[0] // 2)
+        half_h = max((y1 - y0) // 2 + (y1 - y0) // 4, min_size[1] // 2)
+        cx, cy = (x0 + x1) // 2, (y0 + y1) // 2
+        image = image[max(0, cy - half_h):cy + half_h, max(0, cx - half_w):cx + half_w]
+    mpimg.imsave(path, image, metadata={"Software": None})
+    return path

@@ -14,8 +14,8 @@ therefore run with the analyzer's default pairing and again with that one.
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import report
-from .outputs import group_table, group_table_counts, pairing_of, read_frames, read_json
+from . import plots, report
+from .outputs import group_table, group_table_counts, pairing_of, read_frames, read_json, sidecar
 from .report import COMPARISON_HEADERS, comparison_rows
 from .runner import analyze, render_calib, render_frames
 from .thesis import THESIS
@@ -36,20 +36,35 @@ class Runs:
     frames: dict        # model -> frames.csv rows, default pairing
     pairing: str        # the default pairing's name (run.json)
     pairing_tp: str     # THESIS_PAIRING's name (run.json)
+    overlay_frames: dict  # region -> frame dumped by the shelled run (default pairing)
 
     def run_dirs(self):
         return [self.runs["shelled"], self.runs["full"], self.runs_tp["shelled"], self.runs_tp["full"]]
 
 
+def frames_per_region(dataset, selection):
+    """One analyzed frame per region (the middle one of the region's selected frames): {region: frame}."""
+    count = read_json(dataset / "manifest.json")["frames"]["count"]
+    k, n = (0, 1) if selection is None else (int(v) for v in selection[1].split("/"))
+    by_region = {}
+    for i in range(k, count, n):
+        by_region.setdefault(sidecar(dataset, i)["region"], []).append(i)
+    return {g: f[len(f) // 2] for g, f in sorted(by_region.items()) if g != "none"}
+
+
 def render_and_analyze(ctx, dataset_name, flight_path, selection):
-    """Renders `flight_path` and its boards at x16 into `dataset_name`; four analyses (models x pairings)."""
+    """Renders `flight_path` and its boards at x16 into `dataset_name`; four analyses (models x pairings).
+    The shelled run with the default pairing also dumps one frame per region (`--dump-frames`)."""
     ds = ctx.dataset(dataset_name)
     render_calib(ctx, ds, 16)
     render_frames(ctx, ds, 16, flight_path, selection)
-    runs = {m: analyze(ctx, f"{dataset_name}-{m}", ds, m, selection) for m in MODELS}
+    overlay_frames = frames_per_region(ds, selection)
+    dump = ("--dump-frames", ",".join(str(f) for f in sorted(overlay_frames.values()))) if overlay_frames else ()
+    runs = {m: analyze(ctx, f"{dataset_name}-{m}", ds, m, selection, extra=dump if m == "shelled" else ())
+            for m in MODELS}
     runs_tp = {m: analyze(ctx, f"{dataset_name}-{m}-model-to-sensed", ds, m, selection, extra=THESIS_PAIRING)
                for m in MODELS}
-    return Runs(dataset=ds, selection=selection, runs=runs, runs_tp=runs_tp,
+    return Runs(dataset=ds, selection=selection, runs=runs, runs_tp=runs_tp, overlay_frames=overlay_frames,
                 summaries={m: read_json(runs[m] / "summary.json") for m in runs},
                 summaries_tp={m: read_json(runs_tp[m] / "summary.json") for m in runs_tp},
                 frames={m: read_frames(runs[m]) for m in runs},
@@ -93,3 +108,24 @@ def model_error_plots(ctx, rep, res, stem, figures, what, guides):
         for path, cap in report.error_plots(ctx, res.frames[m], f"{stem}_{m}",
                                             f"{m} reference model, {res.pairing} pairing, {what}", figs, guides):
             rep.image(path, cap)
+
+
+def region_overlays(ctx, rep, res, stem):
+    """One overlay of the registered shelled model on the left image per region (`--dump-frames`),
+    cropped around the model, beside the report as <stem>_overlay_<region>.png."""
+    rep.h("The registered model on the left image, one frame per region")
+    rep.p("`aar-analyze run --dump-frames` of the shelled run (default pairing): the reference model's points at "
+          "the estimated pose in green, the estimated receiver origin as a green cross and the true one as a red "
+          "cross; cropped around the model. The run's `frames/` folder also holds each frame's colour-mapped "
+          "disparity, and the sensed cloud and the registered model as PLY.")
+    rows = {r["frame"]: r for r in res.frames["shelled"]}
+    for g, frame in sorted(res.overlay_frames.items()):
+        source = res.runs["shelled"] / "frames" / f"{frame:06d}_overlay.png"
+        row = rows.get(frame, {})
+        if not source.is_file():
+            rep.p(f"Region {g}, frame {frame}: no estimate, no overlay ({row.get('status', 'not analyzed')}).")
+            continue
+        path = plots.crop_to_green(source, ctx.out / f"{stem}_overlay_{g}.png")
+        status = "ok" if row["status"] == "ok" else "not measured: " + row["status"].split(": ", 1)[-1]
+        rep.image(path, f"Region {g}: frame {frame} at {row['range_m']:.1f} m, shelled model registered "
+                        f"(status {status})")

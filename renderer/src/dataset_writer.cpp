@@ -1,6 +1,7 @@
 #include "aar/renderer/dataset_writer.h"
 
 #include <cstdio>
+#include <map>
 #include <vector>
 
 #include "aar/dataset.h"
@@ -88,6 +89,14 @@ bool FinalizeManifest(const std::filesystem::path& dataset) {
   manifest.json["files"] = files;
   manifest.json["complete"] = complete;
   WriteJsonFile(dataset / kManifestName, manifest.json);
+  // SHA256SUMS: `sha256sum -c` format (hash, two spaces, path), every listed
+  // file and the manifest itself, sorted by path.
+  std::map<std::string, std::string> sums;
+  for (const auto& [path, hash] : files.items()) sums[path] = hash.get<std::string>();
+  sums[kManifestName] = Sha256File(dataset / kManifestName);
+  std::string text;
+  for (const auto& [path, hash] : sums) text += hash + "  " + path + "\n";
+  WriteFileAtomic(dataset / kChecksumsName, text);
   return complete;
 }
 

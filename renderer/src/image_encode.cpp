@@ -54,7 +54,12 @@ std::string WriteDepthExr(const std::filesystem::path& path, const GroundTruthIm
     auto out = OIIO::ImageOutput::create("openexr");
     if (!out) throw Error(path.string() + ": OpenImageIO has no OpenEXR writer");
     OIIO::ImageSpec spec(truth.width, truth.height, 1, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = {"Z"};
+    // "Y" (luminance) is the one-channel name OpenCV's EXR reader returns as
+    // is (cv::imread(path, cv::IMREAD_UNCHANGED) gives CV_32FC1; "Z" reads as
+    // zeros). An empty DateTime keeps OpenImageIO from stamping the current
+    // time, so that the same depth gives the same bytes.
+    spec.channelnames = {"Y"};
+    spec.attribute("DateTime", "");
     spec.attribute("compression", "zip");
     spec.attribute("aar:units", "metres along the optical axis; 0 = no surface");
     if (!out->open(temporary.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, truth.depth_m.data()) ||

@@ -89,9 +89,43 @@ Session OpenSession(const RenderJobOptions& options, const StereoRig& rig) {
   return s;
 }
 
+// Writes one 8-bit grey PNG and records it in the sidecar as `role`.
+void WriteMask(const std::filesystem::path& dataset, const std::string& relative, const std::string& role,
+               const GroundTruthImage& truth, const std::vector<uint8_t>& values, FrameSidecar& sidecar) {
+  const std::string png = EncodePng(cv::Mat(truth.height, truth.width, CV_8UC1, const_cast<uint8_t*>(values.data())));
+  WriteFileAtomic(dataset / relative, png);
+  sidecar.files[role] = FileRef{relative, Sha256Hex(png)};
+}
+
+// Depth truth of one camera: depth EXR and object ids from a single-sample
+// pass of the whole scene, and the receiver's silhouette from a pass of the
+// receiver alone (255 where it covers the pixel, whatever is in front).
+void WriteDepthTruth(Session& session, const std::vector<RenderItem>& items, const std::filesystem::path& dataset,
+                     const std::string& prefix, const std::string& side, FrameSidecar& sidecar,
+                     RenderStageTimes& times) {
+  const Camera& camera = side == "left" ? session.rig.left : session.rig.right;
+  auto start = std::chrono::steady_clock::now();
+  const GroundTruthImage truth = session.renderer->RenderGroundTruth(camera, session.rig.near_m, items);
+  std::vector<RenderItem> receiver_only;
+  for (const RenderItem& item : items) {
+    if (item.object_id == kReceiverId) receiver_only.push_back(item);
+  }
+  const GroundTruthImage alone = session.renderer->RenderGroundTruth(camera, session.rig.near_m, receiver_only);
+  times.render_ms += MillisecondsSince(start);
+  start = std::chrono::steady_clock::now();
+  const std::string depth_relative = prefix + "_" + side + "_depth.exr";
+  sidecar.files[side + "_depth"] = FileRef{depth_relative, WriteDepthExr(dataset / depth_relative, truth)};
+  WriteMask(dataset, prefix + "_" + side + "_mask.png", side + "_mask", truth, truth.object_id, sidecar);
+  std::vector<uint8_t> silhouette(alone.object_id.size());
+  for (size_t i = 0; i < silhouette.size(); ++i) silhouette[i] = alone.object_id[i] != 0 ? 255 : 0;
+  WriteMask(dataset, prefix + "_" + side + "_silhouette.png", side + "_silhouette", alone, silhouette, sidecar);
+  times.encode_ms += MillisecondsSince(start);
+}
+
 // Renders, encodes and writes one stereo pair and its sidecar (written last).
 void WritePair(Session& session, const std::vector<RenderItem>& items, const std::filesystem::path& dataset,
-               const std::string& dir, FrameSidecar sidecar, bool depth, RenderStageTimes& times) {
+               const std::string& dir, FrameSidecar sidecar, const std::vector<std::string>& depth_sides,
+               RenderStageTimes& times) {
   const std::string stem = FrameStem(sidecar.index);
   for (const char* side : {"left", "right"}) {
     const Camera& camera = std::string(side) == "left" ? session.rig.left : session.rig.right;
@@ -108,20 +142,8 @@ void WritePair(Session& session, const std::vector<RenderItem>& items, const std
     sidecar.files[side] = FileRef{relative, Sha256Hex(png)};
     times.write_ms += MillisecondsSince(start);
   }
-  if (depth) {
-    auto start = std::chrono::steady_clock::now();
-    const GroundTruthImage truth = session.renderer->RenderGroundTruth(session.rig.left, session.rig.near_m, items);
-    times.render_ms += MillisecondsSince(start);
-    start = std::chrono::steady_clock::now();
-    const std::string relative = dir + "/" + stem + "_left_depth.exr";
-    sidecar.files["left_depth"] = FileRef{relative, WriteDepthExr(dataset / relative, truth)};
-    const std::string mask_png =
-        EncodePng(cv::Mat(truth.height, truth.width, CV_8UC1, const_cast<uint8_t*>(truth.object_id.data())));
-    const std::string mask_relative = dir + "/" + stem + "_left_mask.png";
-    WriteFileAtomic(dataset / mask_relative, mask_png);
-    sidecar.files["left_mask"] = FileRef{mask_relative, Sha256Hex(mask_png)};
-    times.encode_ms += MillisecondsSince(start);
-  }
+  for (const std::string& side : depth_sides)
+    WriteDepthTruth(session, items, dataset, dir + "/" + stem, side, sidecar, times);
   auto start = std::chrono::steady_clock::now();
   WriteJsonFile(SidecarPath(dataset, sidecar.kind, sidecar.index), SidecarToJson(sidecar));
   times.write_ms += MillisecondsSince(start);
@@ -138,14 +160,16 @@ RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size
   result.selected = selected.size();
   const std::string dir = kind == "calib" ? kCalibDir : kFramesDir;
   EnsureWritableDirectory(options.output / dir);
+  std::vector<std::string> depth_sides;
+  if (kind == "frame" && (options.depth || options.depth_right)) depth_sides.push_back("left");
+  if (kind == "frame" && options.depth_right) depth_sides.push_back("right");
   Progress progress(label, selected.size());
   for (size_t index : selected) {
     if (SidecarVerified(options.output, SidecarPath(options.output, kind, index))) {
       ++result.skipped;
     } else {
       auto [items, sidecar] = make_pair(index);
-      WritePair(session, items, options.output, dir, std::move(sidecar), kind == "frame" && options.depth,
-                result.times);
+      WritePair(session, items, options.output, dir, std::move(sidecar), depth_sides, result.times);
       ++result.rendered;
     }
     if (options.progress) progress.Advance();
@@ -195,7 +219,8 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
                                      {"sha256", CopyInput(options.output, options.flight_path, kFlightPathName)}};
   header["frames"] = {{"count", path.size()},
                       {"msaa", MsaaJson(session.plan)},
-                      {"depth", options.depth},
+                      {"depth", options.depth || options.depth_right},
+                      {"depth_right", options.depth_right},
                       {"texture_anisotropy", options.anisotropy}};
   OpenManifest(options.output, header);
 

@@ -46,7 +46,7 @@ struct DatasetRecipe {
   std::string flight_path_csv;  ///< content
   int msaa = 16;
   bool calib = false;  ///< also render the 12 calibration pairs
-  bool depth = false;  ///< also render depth truth and object ids
+  bool depth = false;  ///< also render depth truth, object ids and silhouettes of both cameras
 };
 
 // The near-contact CSV: conops.csv frames 590 .. 590 + kNearContactFrames - 1 (region C, ~32 m).
@@ -108,7 +108,7 @@ std::string EnsureDataset(const DatasetRecipe& recipe, fs::path* dir_out) {
   }
   commands.push_back("render " + Quote(dir) + common + " --receiver " + Quote(SourcePath("scenes/c12.glb")) +
                      " --tanker " + Quote(SourcePath("scenes/kc46.glb")) + " --flight-path " + Quote(csv) +
-                     (recipe.depth ? " --depth" : ""));
+                     (recipe.depth ? " --depth-right" : ""));
   for (const std::string& arguments : commands) {
     const std::string command = kNoSlurm + Quote(RenderExe()) + " " + arguments;
     const CommandResult result = RunCommand(command);

@@ -5,6 +5,7 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -14,6 +15,7 @@
 #include "aar/dataset.h"
 #include "aar/file_io.h"
 #include "aar/renderer/stereo_render_job.h"
+#include "aar/rig.h"
 
 namespace aar {
 namespace {
@@ -49,7 +51,7 @@ TEST(Render, ShortFlightPathSidecarsCarryTruth) {
   RenderJobOptions o = DefaultOptions(dir / "ds");
   o.flight_path = WriteShortPath(dir);
   o.msaa = 1;
-  o.depth = true;
+  o.depth_right = true;
   const RenderJobResult result = RenderFlightPathJob(o);
   EXPECT_EQ(result.rendered, 4u);
   EXPECT_TRUE(result.complete);
@@ -71,6 +73,25 @@ TEST(Render, ShortFlightPathSidecarsCarryTruth) {
 
   // Every listed file exists with its hash; the images show something other than sky.
   for (const auto& [path, hash] : manifest.files) EXPECT_EQ(Sha256File(o.output / path), hash) << path;
+  // SHA256SUMS lists the same files and the manifest, sorted, and `sha256sum -c` accepts it.
+  std::string sums;
+  std::map<std::string, std::string> expected = manifest.files;
+  expected[kManifestName] = Sha256File(o.output / kManifestName);
+  for (const auto& [path, hash] : expected) sums += hash + "  " + path + "\n";
+  EXPECT_EQ(ReadFileBytes(o.output / kChecksumsName), sums);
+  EXPECT_EQ(test::RunCommand("cd '" + o.output.string() + "' && sha256sum --quiet -c SHA256SUMS").exit_code, 0);
+
+  // cam_from_receiver: the receiver origin projects where the rig's chain puts it, in both cameras.
+  const nlohmann::json sidecar_json = ReadJsonFile(SidecarPath(o.output, "frame", 1));
+  for (const char* side : {"left", "right"}) {
+    const Camera& cam = std::string(side) == "left" ? s1.rig.left : s1.rig.right;
+    const Eigen::Isometry3d expected_cam_from_receiver =
+        cam.tanker_from_camera.inverse() * IsometryFromPose(s1.tanker_from_target);
+    const Eigen::Isometry3d cam_from_receiver =
+        IsometryFromJson(sidecar_json.at("cam_from_receiver").at(side), "sidecar");
+    EXPECT_TRUE(cam_from_receiver.matrix().isApprox(expected_cam_from_receiver.matrix(), 1e-12)) << side;
+    EXPECT_GT(cam_from_receiver.translation().z(), 25.0) << side;  // in front of the camera
+  }
   const cv::Mat image = cv::imread((o.output / s1.files.at("left").path).string(), cv::IMREAD_COLOR);
   ASSERT_EQ(image.cols, 1024);
   ASSERT_EQ(image.rows, 768);
@@ -89,6 +110,11 @@ TEST(Render, ShortFlightPathSidecarsCarryTruth) {
   }
   EXPECT_GT(nearest, 20.0f);
   EXPECT_LT(farthest, 45.0f);
+  // OpenCV reads the EXR as it is: one float channel with the same values.
+  const cv::Mat cv_depth = cv::imread((o.output / s1.files.at("left_depth").path).string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(cv_depth.type(), CV_32FC1);
+  ASSERT_EQ(cv_depth.total(), depth.size());
+  EXPECT_EQ(std::memcmp(cv_depth.data, depth.data(), depth.size() * sizeof(float)), 0);
 
   // The mask marks exactly the pixels with depth as receiver (no anti-aliased edge values).
   const cv::Mat mask = cv::imread((o.output / s1.files.at("left_mask").path).string(), cv::IMREAD_UNCHANGED);
@@ -97,6 +123,19 @@ TEST(Render, ShortFlightPathSidecarsCarryTruth) {
     const uint8_t id = mask.data[i];
     ASSERT_TRUE(id == 0 || id == 1) << "pixel " << i << " has id " << int(id);
     ASSERT_EQ(id == 1, depth[i] > 0) << "pixel " << i;
+  }
+  // The silhouette of the receiver alone covers every receiver pixel of the mask, in both cameras.
+  for (const char* side : {"left", "right"}) {
+    const std::string role = side;
+    const cv::Mat ids = cv::imread((o.output / s1.files.at(role + "_mask").path).string(), cv::IMREAD_UNCHANGED);
+    const cv::Mat silhouette =
+        cv::imread((o.output / s1.files.at(role + "_silhouette").path).string(), cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(silhouette.type(), CV_8UC1) << side;
+    const int receiver = cv::countNonZero(ids == 1);
+    EXPECT_GT(receiver, 10000) << side;
+    EXPECT_EQ(cv::countNonZero((ids == 1) & (silhouette != 255)), 0) << side;
+    EXPECT_EQ(cv::countNonZero((silhouette != 0) & (silhouette != 255)), 0) << side;
+    EXPECT_TRUE(std::filesystem::is_regular_file(o.output / s1.files.at(role + "_depth").path)) << side;
   }
 }
 
@@ -158,6 +197,7 @@ TEST(Render, SameInputsGiveByteIdenticalDatasets) {
     RenderJobOptions o = DefaultOptions(dir / name);
     o.flight_path = WriteShortPath(dir);
     o.msaa = 8;
+    o.depth_right = true;  // depth EXRs carry no time stamp either
     o.selection.end = 2;
     RenderFlightPathJob(o);
     const std::string manifest = ReadFileBytes(o.output / kManifestName);

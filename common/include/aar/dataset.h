@@ -2,6 +2,7 @@
 // The dataset folder schema (docs/dataset-format.md, schema "aar-dataset/1"):
 //
 //   DATASET/manifest.json            what made the dataset, and SHA-256 of every file
+//   DATASET/SHA256SUMS               the same hashes and the manifest's, for `sha256sum -c`
 //   DATASET/rig.json                 the rig used (scenes/rig.json format)
 //   DATASET/flightpath.csv           the flight path used
 //   DATASET/receiver.glb             the receiver model used
@@ -10,6 +11,8 @@
 //   DATASET/frames/NNNNNN_left.png   8-bit sRGB, MSAA-resolved
 //   DATASET/frames/NNNNNN_right.png
 //   DATASET/frames/NNNNNN_left_depth.exr   (with --depth) float32 metres along the optical axis
+//   DATASET/frames/NNNNNN_left_mask.png, NNNNNN_left_silhouette.png   (with --depth) object ids, receiver alone
+//   DATASET/frames/NNNNNN_right_*        (with --depth-right) the same for the right camera
 //   DATASET/calib/NNNNNN.json, NNNNNN_left.png, NNNNNN_right.png   calibration-board pairs
 
 #include <cstddef>
@@ -28,6 +31,7 @@ namespace aar {
 inline constexpr const char* kDatasetSchema = "aar-dataset/1";
 inline constexpr const char* kFrameSchema = "aar-frame/1";
 inline constexpr const char* kManifestName = "manifest.json";
+inline constexpr const char* kChecksumsName = "SHA256SUMS";
 inline constexpr const char* kRigName = "rig.json";
 inline constexpr const char* kFlightPathName = "flightpath.csv";
 inline constexpr const char* kReceiverModelName = "receiver.glb";
@@ -53,15 +57,16 @@ struct FileRef {
 struct FrameSidecar {
   std::string kind = "frame";
   size_t index = 0;
-  double time_s = 0.0;                   ///< flight-path time (frames only)
-  Pose tanker_from_target;               ///< tanker_from_receiver or tanker_from_board
-  double range_m = 0.0;                  ///< left camera centre to target origin [m]
-  std::string region = "none";           ///< A, B, C or none (frames only)
-  double in_view_left = 0.0;             ///< fraction of target model vertices inside the left image
-  double in_view_right = 0.0;            ///< same for the right image
-  StereoRig rig;                         ///< ideal intrinsics and extrinsics
-  std::optional<BoardSpec> board;        ///< calib only
-  std::map<std::string, FileRef> files;  ///< "left", "right", optional "left_depth"
+  double time_s = 0.0;             ///< flight-path time (frames only)
+  Pose tanker_from_target;         ///< tanker_from_receiver or tanker_from_board
+  double range_m = 0.0;            ///< left camera centre to target origin [m]
+  std::string region = "none";     ///< A, B, C or none (frames only)
+  double in_view_left = 0.0;       ///< fraction of target model vertices inside the left image
+  double in_view_right = 0.0;      ///< same for the right image
+  StereoRig rig;                   ///< ideal intrinsics and extrinsics
+  std::optional<BoardSpec> board;  ///< calib only
+  /// "left", "right"; with depth truth "left_depth", "left_mask", "left_silhouette" (and "right_...")
+  std::map<std::string, FileRef> files;
 };
 
 /// Zero-padded frame stem, e.g. 12 -> "000012".

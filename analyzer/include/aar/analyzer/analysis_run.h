@@ -24,6 +24,7 @@ inline constexpr const char* kSummaryMarkdownName = "summary.md";
 inline constexpr const char* kRunJsonName = "run.json";
 inline constexpr const char* kCalibrationYamlName = "calibration.yaml";
 inline constexpr const char* kCalibrationReportName = "calibration_report.json";
+inline constexpr const char* kFrameDumpDir = "frames";
 
 struct ReferenceRequest {
   std::string model = "shelled";  ///< "full" or "shelled"
@@ -58,6 +59,8 @@ struct AnalysisRunOptions {
   FrameSelection selection;
   bool progress = true;       ///< progress line and per-frame failures on stderr
   bool write_outputs = true;  ///< false for `bench`: time only
+  /// Frames whose disparity, clouds and overlay are written into OUT/frames/ (frame_dump.h).
+  std::vector<size_t> dump_frames;
 };
 
 struct AnalysisRunResult {

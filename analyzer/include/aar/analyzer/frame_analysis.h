@@ -12,6 +12,7 @@
 
 #include "aar/analyzer/disparity.h"
 #include "aar/analyzer/disparity_cleaning.h"
+#include "aar/analyzer/frame_dump.h"
 #include "aar/analyzer/icp.h"
 #include "aar/analyzer/plane_icp.h"
 #include "aar/analyzer/pose_statistics.h"
@@ -131,8 +132,10 @@ class FrameAnalyzer {
   /// `expected_hashes` (relative path -> SHA-256, e.g. the manifest's files),
   /// too few sensed points or a failed registration give a result whose
   /// `status` says why. `history` holds the last good estimates (for kPreviousFrame).
+  /// With `dump`, also returns the images and clouds of the frame (frame_dump.h).
   FrameResult Analyze(const std::filesystem::path& dataset, size_t index,
-                      const std::map<std::string, std::string>& expected_hashes, const TrackHistory& history) const;
+                      const std::map<std::string, std::string>& expected_hashes, const TrackHistory& history,
+                      FrameDump* dump = nullptr) const;
 
  private:
   StereoCalibration calibration_;
@@ -155,7 +158,8 @@ class FrameAnalyzer {
   Registered Register(const std::vector<Eigen::Vector3d>& sensed, const std::optional<Pose>& previous) const;
   // Rectify, match, re-project and register in `roi` (empty: the whole image).
   Registered Measure(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, const std::optional<Pose>& seed,
-                     const std::optional<DepthTruth>& truth, const std::string& left_path, FrameResult& r) const;
+                     const std::optional<DepthTruth>& truth, const std::string& left_path, FrameResult& r,
+                     FrameDump* dump) const;
   // The model's box in the rectified left image at a pose, grown by margins.
   cv::Rect PredictedRegion(const Eigen::Isometry3d& tanker_from_receiver, double margin_fraction, int margin_px) const;
   cv::Rect PredictedRegion(const Eigen::Isometry3d& tanker_from_receiver) const {

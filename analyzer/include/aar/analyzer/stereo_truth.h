@@ -22,13 +22,14 @@
 
 namespace aar {
 
-/// Left-camera truth images of one frame.
+/// One camera's truth images of one frame.
 struct DepthTruth {
-  cv::Mat depth_m;  ///< CV_32F, metres along the left optical axis, 0 where no surface
+  cv::Mat depth_m;  ///< CV_32F, metres along the camera's optical axis, 0 where no surface
   cv::Mat ids;      ///< CV_8U object ids: 0 sky, 1 receiver, 2 tanker, 3 board
 };
 
-/// Reads the depth EXR (channel Z) and the id mask PNG; errors name the file.
+/// Reads a depth EXR (channel Y, or Z in older datasets) and its id mask PNG
+/// (either camera); errors name the file.
 DepthTruth ReadDepthTruth(const std::filesystem::path& depth_exr, const std::filesystem::path& mask_png);
 
 inline constexpr int kReceiverId = 1;

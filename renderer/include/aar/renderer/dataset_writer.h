@@ -26,7 +26,8 @@ std::string CopyInput(const std::filesystem::path& dataset, const std::filesyste
 
 /// Recomputes the manifest's "files" list from the sidecars and the top-level
 /// files, and sets "complete" when every frame and calibration pair the
-/// manifest announces has a sidecar. Returns "complete".
+/// manifest announces has a sidecar, then writes SHA256SUMS (every listed
+/// file and manifest.json, for `sha256sum -c`). Returns "complete".
 bool FinalizeManifest(const std::filesystem::path& dataset);
 
 }  // namespace aar

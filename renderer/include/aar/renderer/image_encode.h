@@ -17,8 +17,9 @@ cv::Mat ToSrgb8(const LinearImage& image);
 std::string EncodePng(const cv::Mat& bgr8);
 
 /// Writes the depth of a ground-truth image as a one-channel 32-bit float
-/// OpenEXR file (channel "Z", metres along the optical axis, 0 = no surface),
-/// atomically, with OpenImageIO; returns the file's SHA-256.
+/// OpenEXR file (channel "Y", metres along the optical axis, 0 = no surface;
+/// no time stamp, so byte-identical for the same depth), atomically, with
+/// OpenImageIO; returns the file's SHA-256.
 std::string WriteDepthExr(const std::filesystem::path& path, const GroundTruthImage& truth);
 
 }  // namespace aar

@@ -22,7 +22,8 @@ struct RenderJobOptions {
   std::filesystem::path flight_path = "flightpaths/conops.csv";  ///< flight path (render job)
   int msaa = 16;                                                 ///< 1, 4, 8, 16 or 32 samples per pixel
   float anisotropy = 1.0f;                                       ///< texture anisotropic filtering (1 = trilinear)
-  bool depth = false;                                            ///< also write left-camera depth EXR (render job)
+  bool depth = false;        ///< also write left-camera depth EXR, object ids and receiver silhouette (render job)
+  bool depth_right = false;  ///< the same for the right camera (implies `depth`)
   std::vector<double> far_boards_m;  ///< calib job: the twelve board tilts again at each distance [m]
   FrameSelection selection;          ///< frames (or calib pairs) to render
   std::string device;                ///< Vulkan device name filter ("" = lavapipe first)

@@ -1,0 +1,114 @@
+#include "aar/analyzer/dataset_export.h"
+
+#include <array>
+#include <charconv>
+
+#include "aar/analyzer/export_bop.h"
+#include "aar/analyzer/export_middlebury.h"
+#include "aar/analyzer/export_ros.h"
+#include "aar/analyzer/export_tum.h"
+#include "aar/error.h"
+#include "aar/file_io.h"
+
+namespace aar {
+
+std::string ToString(ExportFormat format) {
+  switch (format) {
+    case ExportFormat::kBop:
+      return "bop";
+    case ExportFormat::kMiddlebury:
+      return "middlebury";
+    case ExportFormat::kTum:
+      return "tum";
+    case ExportFormat::kRos:
+      return "ros";
+  }
+  return "bop";
+}
+
+ExportFormat ParseExportFormat(const std::string& text) {
+  for (ExportFormat f : {ExportFormat::kBop, ExportFormat::kMiddlebury, ExportFormat::kTum, ExportFormat::kRos}) {
+    if (text == ToString(f)) return f;
+  }
+  throw Error("--format '" + text + "': expected bop, middlebury, tum or ros");
+}
+
+ExportSource ReadExportSource(const ExportOptions& options) {
+  ExportSource source;
+  source.dataset = options.dataset;
+  source.manifest = ReadManifest(options.dataset);
+  const std::string manifest_path = (options.dataset / kManifestName).string();
+  if (source.manifest.frame_count == 0) throw Error(manifest_path + ": dataset has no frames");
+  const std::vector<size_t> selected = options.selection.Select(source.manifest.frame_count);
+  if (selected.empty()) {
+    throw Error(manifest_path + ": no frame selected (the dataset has " + std::to_string(source.manifest.frame_count) +
+                ")");
+  }
+  for (size_t index : selected) {
+    const std::filesystem::path path = SidecarPath(options.dataset, "frame", index);
+    if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": sidecar missing (frame not rendered)");
+    const std::string relative = std::filesystem::relative(path, options.dataset).generic_string();
+    if (const auto it = source.manifest.files.find(relative);
+        it != source.manifest.files.end() && it->second != Sha256File(path)) {
+      throw Error(path.string() + ": SHA-256 differs from manifest.json's");
+    }
+    source.frames.push_back(ReadSidecar(path));
+  }
+  return source;
+}
+
+std::string ReadVerifiedFile(const ExportSource& source, const FileRef& ref) {
+  const std::filesystem::path path = source.dataset / ref.path;
+  if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": missing");
+  std::string bytes = ReadFileBytes(path);
+  const std::string hash = Sha256Hex(bytes);
+  if (hash != ref.sha256)
+    throw Error(path.string() + ": SHA-256 differs from the sidecar's (file changed or truncated)");
+  if (const auto it = source.manifest.files.find(ref.path); it != source.manifest.files.end() && it->second != hash) {
+    throw Error(path.string() + ": SHA-256 differs from manifest.json's");
+  }
+  return bytes;
+}
+
+const FileRef& RequireFile(const ExportSource& source, const FrameSidecar& frame, const std::string& role,
+                           const std::string& need) {
+  const auto it = frame.files.find(role);
+  if (it == frame.files.end()) {
+    throw Error(SidecarPath(source.dataset, "frame", frame.index).string() + ": no " + role + " (render with " + need +
+                ")");
+  }
+  return it->second;
+}
+
+std::string ShortestDecimal(double value) {
+  if (value == 0.0) return "0";  // also -0
+  std::array<char, 32> buffer{};
+  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  if (error != std::errc()) throw Error("cannot format a number");
+  return std::string(buffer.data(), end);
+}
+
+void WriteExportFile(const std::filesystem::path& out, const std::string& relative, const std::string& bytes,
+                     ExportResult& result) {
+  const std::filesystem::path path = out / relative;
+  EnsureWritableDirectory(path.parent_path());
+  WriteFileAtomic(path, bytes);
+  result.files.push_back(relative);
+}
+
+ExportResult ExportDataset(ExportFormat format, const ExportOptions& options) {
+  if (options.out.empty()) throw Error("export: no output folder given (--out)");
+  switch (format) {
+    case ExportFormat::kBop:
+      return ExportBop(options);
+    case ExportFormat::kMiddlebury:
+      return ExportMiddlebury(options);
+    case ExportFormat::kTum:
+      return ExportTum(options);
+    case ExportFormat::kRos:
+      return ExportRos(options);
+  }
+  throw Error("export: unknown format");
+}
+
+}  // namespace aar
