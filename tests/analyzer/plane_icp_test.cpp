@@ -92,6 +92,51 @@ TEST(PlaneIcp, PairsSensedPointsWithTheFullSurfaceWhenGiven) {
   EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI, 0.05);
 }
 
+TEST(PlaneIcp, ModelPullFadesWithTheScaleAgainstTheDepthNoise) {
+  // A stereo-like cloud: the wing tips and the nose missing, every point
+  // moved along its viewing ray by the range-squared depth noise of 0.1 px at
+  // f b = 450 px m (sigma_ray about 0.24 m here). The model-to-sensed pairs
+  // weigh sigma_ray^2 / (sigma_ray^2 + t^2): with t far above sigma_ray the
+  // result is the sensed-to-model pairing's, and a moderate t lies between.
+  const ReferenceModel model = SampleSurfaceWithNormals(Receiver(), 8000, 7);
+  const StereoNoiseGeometry geometry = Geometry();
+  std::mt19937 rng(11);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::vector<Eigen::Vector3d> sensed;
+  for (const Eigen::Vector3d& p : SampleSurfaceWithNormals(Receiver(), 3000, 8).points_in_receiver) {
+    if (std::abs(p.y()) > 2.8 || p.x() > 2.4) continue;
+    const Eigen::Vector3d s = TruePose() * p;
+    const Eigen::Vector3d offset = s - geometry.camera_centre_in_tanker;
+    const double depth = offset.dot(geometry.optical_axis_in_tanker);
+    const double sigma_ray = depth * offset.norm() * 0.1 / geometry.focal_times_baseline_px_m;
+    sensed.push_back(s + offset.normalized() * sigma_ray * gauss(rng));
+  }
+  const auto register_with = [&](PlanePairing pairing, double pull_scale_m) {
+    PlaneIcpOptions options;
+    options.pairing = pairing;
+    options.model_pull_scale_m = pull_scale_m;
+    const PlaneIcpRegistration icp(model.points_in_receiver, model.normals_in_receiver, geometry, options);
+    const PlaneIcpResult result = icp.Register(sensed, TruePose());
+    EXPECT_TRUE(result.converged);
+    return result.tanker_from_receiver;
+  };
+  const Eigen::Isometry3d sensed_only = register_with(PlanePairing::kSensedToModel, 0.0);
+  const Eigen::Isometry3d faded = register_with(PlanePairing::kSymmetric, 1e4);
+  const Eigen::Isometry3d full = register_with(PlanePairing::kSymmetric, 0.0);
+  const Eigen::Isometry3d half = register_with(PlanePairing::kSymmetric, 0.5);
+  EXPECT_LT((faded.translation() - sensed_only.translation()).norm(), 1e-4);
+  EXPECT_GT((full.translation() - sensed_only.translation()).norm(), 1e-3);  // the pulls matter here
+  const double span = (full.translation() - sensed_only.translation()).norm();
+  EXPECT_LT((half.translation() - sensed_only.translation()).norm(), span);
+  EXPECT_LT((half.translation() - full.translation()).norm(), span);
+  for (const Eigen::Isometry3d& t : {sensed_only, full, half}) {
+    EXPECT_LT((TruePose().inverse() * t).translation().norm(), 0.1);  // all near the truth
+  }
+  PlaneIcpOptions bad;
+  bad.model_pull_scale_m = -1.0;
+  EXPECT_THROW(bad.Check(), Error);
+}
+
 TEST(PlaneIcp, RejectsModelsWithoutNormalsAndEmptyClouds) {
   const ReferenceModel model = SampleSurfaceWithNormals(Receiver(), 100, 1);
   EXPECT_THROW(PlaneIcpRegistration(model.points_in_receiver, {}, Geometry()), Error);

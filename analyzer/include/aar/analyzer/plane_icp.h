@@ -69,14 +69,12 @@ struct PlaneIcpOptions {
   size_t max_model_queries = 4000;
   /// Symmetric pairing: a model-to-sensed pair counts
   /// sigma_ray^2 / (sigma_ray^2 + t^2) of its weight, t = this [m] (0: all of
-  /// it). Where the cloud's depth noise is small against the scale of the
-  /// receiver's surface separations (fuselage radius 0.73-0.82 m, wing and
-  /// tail thicknesses 0.1-0.35 m; t = 0.5 m sits between them), each sensed
-  /// point finds its own surface and the sensed-to-model pairs alone are
-  /// unbiased, while nearest-neighbour pairs from the model into a noisy,
-  /// eroded cloud pull the estimate along the rays; where the noise is large
-  /// the sensed-to-model pairs become ambiguous and the model-to-sensed pairs
-  /// hold the receiver's extent (docs/analysis.md measures both ends).
+  /// it): little where the cloud's depth noise is small against the scale of
+  /// the receiver's surface separations (C-12 fuselage half-width 0.73 m,
+  /// wing and tail thicknesses 0.1-0.35 m; t = 0.5 m lies between them) and
+  /// the sensed-to-model pairs alone are the better estimate, most where the
+  /// noise makes those pairs ambiguous and the model's pull holds the
+  /// receiver's extent (docs/analysis.md measures both ends).
   double model_pull_scale_m = 0.5;
   /// Coarse-to-fine: iterate on every k-th point of both clouds until the
   /// steps are below ten times the tolerances, then on all; 1 = off.
