@@ -114,6 +114,10 @@ bool SidecarVerified(const std::filesystem::path& dataset, const std::filesystem
   }
 }
 
+bool IsSha256Hex(const std::string& text) {
+  return text.size() == 64 && text.find_first_not_of("0123456789abcdef") == std::string::npos;
+}
+
 Manifest ReadManifest(const std::filesystem::path& dataset) {
   const std::filesystem::path path = dataset / kManifestName;
   if (!std::filesystem::is_regular_file(path)) {
@@ -126,8 +130,17 @@ Manifest ReadManifest(const std::filesystem::path& dataset) {
     if (m.schema != kDatasetSchema) throw Error(path.string() + ": unsupported schema '" + m.schema + "'");
     if (m.json.contains("frames")) m.frame_count = m.json.at("frames").at("count").get<size_t>();
     if (m.json.contains("calib")) m.calib_pair_count = m.json.at("calib").at("count").get<size_t>();
+    if (m.frame_count > kMaxDatasetFrames || m.calib_pair_count > kMaxDatasetFrames) {
+      throw Error(path.string() + ": frames.count or calib.count above " + std::to_string(kMaxDatasetFrames));
+    }
     m.complete = m.json.value("complete", false);
-    for (const auto& [name, hash] : m.json.at("files").items()) m.files[name] = hash.get<std::string>();
+    const nlohmann::json& files = m.json.at("files");
+    if (!files.is_object()) throw Error(path.string() + ": 'files' must map relative paths to SHA-256");
+    for (const auto& [name, hash] : files.items()) {
+      m.files[name] = hash.get<std::string>();
+      if (!IsSha256Hex(m.files[name])) throw Error(path.string() + ": files['" + name + "'] is not a SHA-256");
+    }
+    if (m.complete && m.files.empty()) throw Error(path.string() + ": complete, but 'files' lists nothing");
   } catch (const nlohmann::json::exception& e) {
     throw Error(path.string() + ": malformed manifest: " + e.what());
   }

@@ -8,26 +8,28 @@
 #include <filesystem>
 #include <string>
 
+#include "aar/data_path.h"
 #include "aar/frame_selection.h"
 
 namespace aar {
 
 struct RenderJobOptions {
-  std::filesystem::path output;                                  ///< dataset folder (created)
-  std::filesystem::path rig = "scenes/rig.json";                 ///< camera rig
-  std::filesystem::path receiver_model = "scenes/c12.glb";       ///< receiver glTF
-  std::filesystem::path tanker_model = "scenes/kc46.glb";        ///< tanker glTF
-  std::filesystem::path board_model = "scenes/calib_board.glb";  ///< calibration board glTF (calib job)
-  std::filesystem::path flight_path = "flightpaths/conops.csv";  ///< flight path (render job)
-  int msaa = 16;                                                 ///< 1, 4, 8, 16 or 32 samples per pixel
-  float anisotropy = 1.0f;                                       ///< texture anisotropic filtering (1 = trilinear)
-  bool depth = false;                                            ///< also write left-camera depth EXR (render job)
-  FrameSelection selection;                                      ///< frames (or calib pairs) to render
-  std::string device;                                            ///< Vulkan device name filter ("" = lavapipe first)
-  bool progress = true;                                          ///< progress line on stderr
+  std::filesystem::path output;                                            ///< dataset folder (created)
+  std::filesystem::path rig = DataFile("scenes/rig.json");                 ///< camera rig
+  std::filesystem::path receiver_model = DataFile("scenes/c12.glb");       ///< receiver glTF
+  std::filesystem::path tanker_model = DataFile("scenes/kc46.glb");        ///< tanker glTF
+  std::filesystem::path board_model = DataFile("scenes/calib_board.glb");  ///< calibration board glTF (calib job)
+  std::filesystem::path flight_path = DataFile("flightpaths/conops.csv");  ///< flight path (render job)
+  int msaa = 16;                                                           ///< 1, 4, 8, 16 or 32 samples per pixel
+  float anisotropy = 1.0f;   ///< texture anisotropic filtering (1 = trilinear)
+  bool depth = false;        ///< also write left-camera depth EXR (render job)
+  FrameSelection selection;  ///< frames (or calib pairs) to render
+  std::string device;        ///< Vulkan device name filter ("" = lavapipe first)
+  bool progress = true;      ///< progress line on stderr
 
   /// Throws aar::Error naming the option (its command-line flag) when a value
-  /// is out of range; the jobs call it before reading any input.
+  /// is out of range (MSAA level, anisotropy outside [1, 16] or NaN); the jobs
+  /// call it before reading any input. Input defaults come from data_path.h.
   void Check() const;
 };
 
