@@ -65,12 +65,14 @@ std::vector<double> ParseFlowSequence(std::string_view first, const std::vector<
                                       const std::string& where, size_t first_number) {
   std::string body(Trim(first));
   size_t last_number = first_number;
-  while (body.find(']') == std::string::npos) {
+  // Only the appended line is searched for ']': linear in the file size.
+  for (bool closed = body.find(']') != std::string::npos; !closed; ++next) {
     if (next >= lines.size()) throw Error(where + ":" + std::to_string(first_number) + ": '[' without ']'");
+    const std::string_view line = Trim(lines[next].text);
+    closed = line.find(']') != std::string_view::npos;
     body += ' ';
-    body += Trim(lines[next].text);
+    body += line;
     last_number = lines[next].number;
-    ++next;
   }
   const std::string at = where + ":" + std::to_string(last_number);
   const size_t close = body.find(']');
