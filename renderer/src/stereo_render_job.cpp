@@ -179,6 +179,7 @@ void RenderJobOptions::Check() const {
 RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   options.Check();
   const StereoRig rig = LoadRig(options.rig);
+  const StereoCalibration ideal = IdealCalibration(rig);  // throws, writing nothing, for a rig it cannot describe
   const std::vector<FlightSample> path = ReadFlightPath(options.flight_path);
   options.selection.CheckWithin(path.size(), options.flight_path.string());
   const SceneModel receiver = LoadSceneModel(options.receiver_model);
@@ -207,7 +208,7 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
     CopyInput(options.output, options.rig, kRigName, rig_hash);
     CopyInput(options.output, options.receiver_model, kReceiverModelName, receiver_hash);
     CopyInput(options.output, options.flight_path, kFlightPathName, path_hash);
-    WriteCalibration(options.output / kIdealCalibrationName, IdealCalibration(session.rig));
+    WriteCalibration(options.output / kIdealCalibrationName, ideal);
   });
 
   return RunPairs(options, session, path.size(), "frame", "render x" + std::to_string(options.msaa), [&](size_t i) {
@@ -231,6 +232,7 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
 RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   options.Check();
   const StereoRig rig = LoadRig(options.rig);
+  const StereoCalibration ideal = IdealCalibration(rig);  // throws, writing nothing, for a rig it cannot describe
   const SceneModel board = LoadSceneModel(options.board_model);
   const std::vector<Pose> poses = CalibrationBoardPoses(rig);
   options.selection.CheckWithin(poses.size(), "calibration board poses");
@@ -253,7 +255,7 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
       {"board", {{"inner_corners", {spec.inner_corners_x, spec.inner_corners_y}}, {"square_m", spec.square_m}}}};
   OpenManifest(options.output, header, [&] {
     CopyInput(options.output, options.rig, kRigName, rig_hash);
-    WriteCalibration(options.output / kIdealCalibrationName, IdealCalibration(session.rig));
+    WriteCalibration(options.output / kIdealCalibrationName, ideal);
   });
 
   return RunPairs(options, session, poses.size(), "calib", "calib x" + std::to_string(options.msaa), [&](size_t i) {
