@@ -5,6 +5,7 @@
 
 #include "aar/error.h"
 #include "aar/file_io.h"
+#include "aar/json_number.h"
 
 namespace aar {
 
@@ -72,7 +73,7 @@ FrameSidecar ReadSidecar(const std::filesystem::path& path) {
     FrameSidecar s;
     s.kind = j.at("kind").get<std::string>();
     if (s.kind != "frame" && s.kind != "calib") throw Error(where + ": unknown kind '" + s.kind + "'");
-    s.index = j.at("index").get<size_t>();
+    s.index = static_cast<size_t>(JsonInteger(j.at("index"), 0, kMaxDatasetFrames, where + ": index"));
     const bool calib = s.kind == "calib";
     s.tanker_from_target = PoseFromJson(j.at(calib ? "tanker_from_board" : "tanker_from_receiver"), where);
     if (!calib) {
@@ -85,8 +86,10 @@ FrameSidecar ReadSidecar(const std::filesystem::path& path) {
     s.rig = RigFromJson(j.at("rig"), where);
     if (j.contains("board")) {
       BoardSpec b;
-      b.inner_corners_x = j.at("board").at("inner_corners").at(0).get<int>();
-      b.inner_corners_y = j.at("board").at("inner_corners").at(1).get<int>();
+      b.inner_corners_x = static_cast<int>(
+          JsonInteger(j.at("board").at("inner_corners").at(0), 2, 1000, where + ": board.inner_corners[0]"));
+      b.inner_corners_y = static_cast<int>(
+          JsonInteger(j.at("board").at("inner_corners").at(1), 2, 1000, where + ": board.inner_corners[1]"));
       b.square_m = j.at("board").at("square_m").get<double>();
       s.board = b;
     }
@@ -128,10 +131,11 @@ Manifest ReadManifest(const std::filesystem::path& dataset) {
   try {
     m.schema = m.json.at("schema").get<std::string>();
     if (m.schema != kDatasetSchema) throw Error(path.string() + ": unsupported schema '" + m.schema + "'");
-    if (m.json.contains("frames")) m.frame_count = m.json.at("frames").at("count").get<size_t>();
-    if (m.json.contains("calib")) m.calib_pair_count = m.json.at("calib").at("count").get<size_t>();
-    if (m.frame_count > kMaxDatasetFrames || m.calib_pair_count > kMaxDatasetFrames) {
-      throw Error(path.string() + ": frames.count or calib.count above " + std::to_string(kMaxDatasetFrames));
+    // Counts above kMaxDatasetFrames are corrupt: a run would allocate for every frame.
+    for (const auto& [section, count] : {std::pair{"frames", &m.frame_count}, {"calib", &m.calib_pair_count}}) {
+      if (!m.json.contains(section)) continue;
+      *count = static_cast<size_t>(
+          JsonInteger(m.json.at(section).at("count"), 0, kMaxDatasetFrames, path.string() + ": " + section + ".count"));
     }
     m.complete = m.json.value("complete", false);
     const nlohmann::json& files = m.json.at("files");

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "aar/error.h"
+#include "aar/json_number.h"
 
 namespace aar {
 namespace {
@@ -103,9 +104,8 @@ nlohmann::json RigToJson(const StereoRig& rig) {
 StereoRig RigFromJson(const nlohmann::json& j, const std::string& where) {
   try {
     StereoRig rig;
-    const int width = j.at("image_width").get<int>();
-    const int height = j.at("image_height").get<int>();
-    if (width <= 0 || height <= 0 || width > 16384 || height > 16384) throw Error(where + ": bad image size");
+    const int width = static_cast<int>(JsonInteger(j.at("image_width"), 1, 16384, where + ": image_width"));
+    const int height = static_cast<int>(JsonInteger(j.at("image_height"), 1, 16384, where + ": image_height"));
     auto camera = [&](const char* name) {
       const nlohmann::json& c = j.at("cameras").at(name);
       Camera cam;

@@ -132,7 +132,7 @@ TEST(Manifest, RefusesEmptyOrWrongFilesAndHugeCounts) {
   EXPECT_TRUE(Contains(manifest_error(j), "complete, but 'files' lists nothing"));
   j = ok;
   j["frames"]["count"] = 1000000000000000ull;
-  EXPECT_TRUE(Contains(manifest_error(j), "frames.count or calib.count above 10000000"));
+  EXPECT_TRUE(Contains(manifest_error(j), "frames.count 1000000000000000 is above 10000000"));
   j = ok;
   j["files"]["rig.json"] = "not-a-hash";
   EXPECT_TRUE(Contains(manifest_error(j), "files['rig.json'] is not a SHA-256"));
@@ -145,6 +145,24 @@ TEST(Rig, RefusesNonPositiveOrNonFiniteNearPlane) {
     const std::string message = ErrorOf([&] { RigFromJson(rig, "r.json"); });
     EXPECT_TRUE(Contains(message, "r.json: ")) << message;
     EXPECT_TRUE(Contains(message, "near_m")) << message;
+  }
+}
+
+// Found by tests/fuzz (UBSan): nlohmann's get<int>() and get<size_t>() cast a
+// float such as 1e300 with undefined behaviour.
+TEST(JsonIntegers, FloatsAndOutOfRangeValuesAreRefusedByName) {
+  nlohmann::json rig = nlohmann::json::parse(ReadFileBytes(SourcePath("scenes/rig.json")));
+  for (const nlohmann::json& width :
+       {nlohmann::json(1e300), nlohmann::json(1024.0), nlohmann::json(-3), nlohmann::json(20000)}) {
+    rig["image_width"] = width;
+    EXPECT_TRUE(Contains(ErrorOf([&] { RigFromJson(rig, "r.json"); }), "r.json: image_width")) << width;
+  }
+  TempDir dir;
+  nlohmann::json sidecar = nlohmann::json::parse(ReadFileBytes(SourcePath("tests/fuzz/corpus/sidecar/frame.json")));
+  for (const nlohmann::json& index : {nlohmann::json(1e300), nlohmann::json(-1), nlohmann::json(2.5)}) {
+    sidecar["index"] = index;
+    WriteJsonFile(dir / "000000.json", sidecar);
+    EXPECT_TRUE(Contains(ErrorOf([&] { ReadSidecar(dir / "000000.json"); }), "000000.json: index")) << index;
   }
 }
 
