@@ -16,8 +16,10 @@
 #include "aar/analyzer/dataset_export.h"
 #include "aar/analyzer/mesh.h"
 #include "aar/analyzer/ply.h"
+#include "aar/data_path.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
+#include "aar/folder_lock.h"
 
 namespace {
 
@@ -184,7 +186,11 @@ struct RunFlags {
     f.track_region = track;
     f.Check();
     o.dump_frames = dump_frames;
-    if (o.out.empty()) o.out = std::filesystem::path("results") / (DatasetName(o.dataset) + "-" + o.reference.model);
+    // Shards (Slurm array tasks) get folders of their own, never one another's.
+    if (o.out.empty()) {
+      o.out = std::filesystem::path("results") /
+              (DatasetName(o.dataset) + "-" + o.reference.model + o.selection.ShardSuffix());
+    }
   }
 };
 
@@ -240,6 +246,9 @@ int RunCalibrate(int argc, char** argv) {
   if (const auto code = Parse(app, argc, argv)) return *code;
   if (out.empty()) out = std::filesystem::path("results") / (DatasetName(dataset) + "-calibration");
   const aar::CalibrateOutput result = aar::CalibrateDataset(dataset, options);
+  aar::EnsureWritableDirectory(out);
+  const aar::FileLock lock = aar::LockOutputFolder(out);
+  aar::RemoveStaleTemporaries(out);
   aar::WriteCalibrationOutputs(out, result);
   std::printf("%s\nwrote %s and %s\n", result.result.BriefReport().c_str(), (out / aar::kCalibrationYamlName).c_str(),
               (out / aar::kCalibrationReportName).c_str());
@@ -248,7 +257,8 @@ int RunCalibrate(int argc, char** argv) {
 
 int RunReference(int argc, char** argv) {
   CLI::App app{"build a reference point cloud and write it as PLY", "aar-analyze reference"};
-  std::string model = "shelled", receiver = "scenes/c12.glb", rig_path = "scenes/rig.json", out;
+  std::string model = "shelled", receiver = aar::DataFile("scenes/c12.glb"),
+              rig_path = aar::DataFile("scenes/rig.json"), out;
   ReferenceFlags reference;
   app.add_option("--model", model, "full or shelled")->capture_default_str();
   app.add_option("--receiver", receiver, "receiver glTF")->capture_default_str();
@@ -352,7 +362,7 @@ void PrintUsage(FILE* out) {
                "aar-analyze: calibrates the stereo pair, computes disparity, re-projects and registers a reference "
                "model with ICP over a saved dataset; writes per-frame CSV and per-region statistics "
                "(docs/analysis.md).\n\nUsage: aar-analyze COMMAND [OPTIONS]   (aar-analyze COMMAND --help for its "
-               "options)\n\nCommands:\n");
+               "options)\n       aar-analyze --version\n\nCommands:\n");
   for (const Command& c : kCommands) std::fprintf(out, "  %-10s %s\n", c.name, c.help);
 }
 
@@ -363,6 +373,10 @@ int main(int argc, char** argv) {
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     PrintUsage(argc < 2 ? stderr : stdout);
     return argc < 2 ? 1 : 0;
+  }
+  if (std::strcmp(argv[1], "--version") == 0) {
+    std::printf("aar-analyze %s (git %s)\n", AAR_VERSION, AAR_GIT_HASH);
+    return 0;
   }
   for (const Command& c : kCommands) {
     if (std::strcmp(argv[1], c.name) != 0) continue;

@@ -199,6 +199,7 @@ int RunBench(int argc, char** argv) {
 // usual usage error (none given, or an unknown one).
 int RunTopLevel(int argc, char** argv) {
   CLI::App app{kDescription};
+  app.set_version_flag("--version", std::string("aar-render ") + AAR_VERSION + " (git " + AAR_GIT_HASH + ")");
   app.require_subcommand(1);
   for (const Command& command : kCommands) app.add_subcommand(command.name, command.description);
   CLI11_PARSE(app, argc, argv);

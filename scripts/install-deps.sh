@@ -4,7 +4,8 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake ninja-build pkg-config git clang-format
+  build-essential cmake ninja-build pkg-config git clang-format dpkg-dev
+  clang libclang-rt-14-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-tools glslang-tools
   libglm-dev libtinygltf-dev nlohmann-json3-dev
   libopenimageio-dev openimageio-tools

@@ -3,13 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <set>
+#include <utility>
 
 #include "aar/analyzer/mesh.h"
 #include "aar/analyzer/ply.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
 #include "aar/flight_path.h"
+#include "aar/folder_lock.h"
 #include "aar/progress.h"
 #include "aar/region.h"
 
@@ -102,6 +105,68 @@ void WriteSummary(const std::filesystem::path& out, const nlohmann::json& run, c
   WriteFileAtomic(out / kSummaryMarkdownName, markdown);
 }
 
+// The dataset's copies of the render inputs must be the files the manifest
+// recorded (inputs.*.sha256 and files), or the analysis would silently use
+// another rig, flight path or receiver model than the images were made with.
+void CheckDatasetInputs(const std::filesystem::path& dataset, const Manifest& manifest, bool uses_receiver) {
+  const std::pair<const char*, const char*> inputs[] = {
+      {"rig", kRigName}, {"flight_path", kFlightPathName}, {"receiver_model", kReceiverModelName}};
+  const nlohmann::json recorded = manifest.json.value("inputs", nlohmann::json::object());
+  for (const auto& [key, name] : inputs) {
+    std::vector<std::string> hashes;
+    if (const auto it = manifest.files.find(name); it != manifest.files.end()) hashes.push_back(it->second);
+    if (recorded.is_object() && recorded.contains(key) && recorded.at(key).is_object() &&
+        recorded.at(key).value("file", "") == name && recorded.at(key).contains("sha256")) {
+      if (!recorded.at(key).at("sha256").is_string()) {
+        throw Error((dataset / kManifestName).string() + ": inputs." + key + ".sha256 is not a string");
+      }
+      hashes.push_back(recorded.at(key).at("sha256").get<std::string>());
+    }
+    const std::filesystem::path file = dataset / name;
+    if (hashes.empty()) continue;
+    if (!std::filesystem::is_regular_file(file)) {
+      if (std::string(name) == kFlightPathName || (std::string(name) == kReceiverModelName && !uses_receiver)) continue;
+      throw Error(file.string() + ": missing (manifest.json records it)");
+    }
+    const std::string actual = Sha256File(file);
+    for (const std::string& hash : hashes) {
+      if (hash != actual) {
+        throw Error(file.string() +
+                    ": SHA-256 differs from manifest.json's (changed after rendering; restore it or "
+                    "render again)");
+      }
+    }
+  }
+}
+
+// Frees an output folder for a new run: stale temporaries go, and run.json
+// (written last, the mark of a finished run) goes first, so an interrupted run
+// never leaves a run.json beside another run's frames.csv.
+void PrepareOutputFolder(const std::filesystem::path& out) {
+  RemoveStaleTemporaries(out);
+  std::error_code ec;
+  std::filesystem::remove(out / kRunJsonName, ec);
+  if (ec) throw Error((out / kRunJsonName).string() + ": cannot remove (" + ec.message() + ")");
+}
+
+// A shard's run.json: present (the run finished) and with the keys merge compares.
+nlohmann::json ReadRunJson(const std::filesystem::path& dir) {
+  const std::filesystem::path path = dir / kRunJsonName;
+  if (!std::filesystem::is_regular_file(path)) {
+    throw Error(path.string() + ": missing (the run did not finish, or this is not a run folder)");
+  }
+  nlohmann::json run = ReadJsonFile(path);
+  for (const char* key : {"schema", "dataset_manifest_sha256", "model", "calibration", "options", "frames_analyzed"}) {
+    if (!run.is_object() || !run.contains(key)) throw Error(path.string() + ": incomplete run.json (no '" + key + "')");
+  }
+  if (run.at("schema") != "aar-run/1") throw Error(path.string() + ": schema is not aar-run/1");
+  if (!run.at("model").is_string() || !run.at("dataset_manifest_sha256").is_string() ||
+      !run.at("frames_analyzed").is_number_unsigned()) {
+    throw Error(path.string() + ": malformed run.json (model, dataset_manifest_sha256 or frames_analyzed)");
+  }
+  return run;
+}
+
 }  // namespace
 
 ReferenceModel BuildReferenceModel(const TriangleMesh& mesh, const StereoRig& rig, const ReferenceRequest& request,
@@ -156,7 +221,30 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
   // Everything that makes the run impossible fails here, before any output.
   options.frame.Check();
   const Manifest manifest = ReadManifest(options.dataset);
-  if (manifest.frame_count == 0) throw Error((options.dataset / kManifestName).string() + ": dataset has no frames");
+  const std::string manifest_path = (options.dataset / kManifestName).string();
+  if (manifest.frame_count == 0) throw Error(manifest_path + ": dataset has no frames");
+  options.selection.CheckWithin(manifest.frame_count, manifest_path);
+  CheckDatasetInputs(options.dataset, manifest, !options.receiver_model);
+  // Truth for frames whose sidecar cannot be read comes from the flight path.
+  std::vector<FlightSample> flight_path;
+  if (std::filesystem::is_regular_file(options.dataset / kFlightPathName)) {
+    flight_path = ReadFlightPath(options.dataset / kFlightPathName);
+    if (flight_path.size() != manifest.frame_count) {
+      throw Error(manifest_path + ": frames.count " + std::to_string(manifest.frame_count) + " differs from the " +
+                  std::to_string(flight_path.size()) + " samples of " + (options.dataset / kFlightPathName).string());
+    }
+  }
+  const std::vector<size_t> selected = options.selection.Select(manifest.frame_count);
+  if (manifest.complete) {
+    // A complete manifest lists every frame: one that is not there would go unchecked.
+    for (size_t index : selected) {
+      const std::string sidecar =
+          std::filesystem::relative(SidecarPath(options.dataset, "frame", index), options.dataset).generic_string();
+      if (!manifest.files.contains(sidecar)) {
+        throw Error(manifest_path + ": complete, but 'files' does not list " + sidecar);
+      }
+    }
+  }
   const StereoRig rig = LoadRig(options.dataset / kRigName);
   std::optional<CalibrateOutput> calibrated;
   StereoCalibration calibration;
@@ -176,11 +264,6 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
                 std::to_string(calibration.image_size.width) + "x" + std::to_string(calibration.image_size.height) +
                 " differs from the dataset's " + std::to_string(rig_size.width) + "x" +
                 std::to_string(rig_size.height));
-  }
-  // Truth for frames whose sidecar cannot be read comes from the flight path.
-  std::vector<FlightSample> flight_path;
-  if (std::filesystem::is_regular_file(options.dataset / kFlightPathName)) {
-    flight_path = ReadFlightPath(options.dataset / kFlightPathName);
   }
   const TriangleMesh mesh = LoadReceiverMesh(options.receiver_model.value_or(options.dataset / kReceiverModelName));
   ReferenceModel full_surface;  // for FrameAnalysisOptions::pair_sensed_with_full_surface
@@ -204,9 +287,13 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
                               {"reference_points", reference.points_in_receiver.size()},
                               {"calibration", calibration_source},
                               {"frames", DescribeSelection(options.selection)},
+                              {"frames_analyzed", selected.size()},
                               {"options", OptionsJson(options)}};
+  std::optional<FileLock> out_lock;
   if (options.write_outputs) {
     EnsureWritableDirectory(options.out);
+    out_lock = LockOutputFolder(options.out);
+    PrepareOutputFolder(options.out);
     if (calibrated) {
       WriteCalibrationOutputs(options.out, *calibrated);
     } else {
@@ -214,7 +301,6 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
     }
     WritePly(options.out / ("reference_" + reference.name + ".ply"), reference.points_in_receiver,
              {"aar-analyze reference model '" + reference.name + "', receiver frame, metres"});
-    WriteJsonFile(options.out / kRunJsonName, run);
   }
 
   AnalysisRunResult result;
@@ -257,17 +343,34 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
   if (options.write_outputs) {
     WriteFrameResults(options.out / kFramesCsvName, result.frames);
     WriteSummary(options.out, run, result.summary);
+    WriteJsonFile(options.out / kRunJsonName, run);  // last: the run finished
   }
   return result;
 }
 
 void MergeRuns(const std::vector<std::filesystem::path>& shard_dirs, const std::filesystem::path& out) {
   if (shard_dirs.empty()) throw Error("merge: no shard folders given");
+  std::error_code ec;
+  const std::filesystem::path out_canonical = std::filesystem::weakly_canonical(out, ec);
+  std::vector<FileLock> shard_locks;  // no run may be writing a shard while it is read
+  std::vector<std::filesystem::path> seen;
+  for (const std::filesystem::path& dir : shard_dirs) {
+    const std::filesystem::path canonical = std::filesystem::weakly_canonical(dir, ec);
+    if (std::find(seen.begin(), seen.end(), canonical) != seen.end()) {
+      throw Error(dir.string() + ": shard folder given twice");
+    }
+    seen.push_back(canonical);
+    if (canonical == out_canonical) {
+      throw Error(out.string() + ": --out is one of the shard folders; merge into a new folder");
+    }
+    shard_locks.push_back(LockOutputFolder(dir));
+  }
   std::vector<std::vector<FrameResult>> shards;
   std::vector<std::string> names;
   nlohmann::json first_run;
+  size_t frames_analyzed = 0;
   for (const std::filesystem::path& dir : shard_dirs) {
-    nlohmann::json run = ReadJsonFile(dir / kRunJsonName);
+    nlohmann::json run = ReadRunJson(dir);
     if (first_run.is_null()) {
       first_run = run;
     } else {
@@ -280,13 +383,22 @@ void MergeRuns(const std::vector<std::filesystem::path>& shard_dirs, const std::
     }
     shards.push_back(ReadFrameResults(dir / kFramesCsvName));
     names.push_back((dir / kFramesCsvName).string());
+    const size_t analyzed = run.at("frames_analyzed").get<size_t>();
+    if (shards.back().size() != analyzed) {
+      throw Error(names.back() + ": " + std::to_string(shards.back().size()) + " frames, but run.json says " +
+                  std::to_string(analyzed) + " were analyzed (frames.csv of another run?)");
+    }
+    frames_analyzed += analyzed;
   }
   const std::vector<FrameResult> merged = MergeFrameResults(shards, names);
   EnsureWritableDirectory(out);
+  const FileLock out_lock = LockOutputFolder(out);
+  PrepareOutputFolder(out);
   first_run["frames"] = "merged from " + std::to_string(shard_dirs.size()) + " shards";
-  WriteJsonFile(out / kRunJsonName, first_run);
+  first_run["frames_analyzed"] = frames_analyzed;
   WriteFrameResults(out / kFramesCsvName, merged);
   WriteSummary(out, first_run, SummarizeFrames(first_run.at("model").get<std::string>(), merged));
+  WriteJsonFile(out / kRunJsonName, first_run);  // last: the merge finished
 }
 
 }  // namespace aar

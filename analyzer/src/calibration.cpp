@@ -9,6 +9,7 @@
 
 #include "aar/analyzer/disparity.h"
 #include "aar/error.h"
+#include "aar/json_number.h"
 #include "aar/text.h"
 
 namespace aar {
@@ -102,8 +103,9 @@ BoardSpec SidecarBoard(const std::filesystem::path& sidecar, const BoardSpec& fa
   if (!j.contains("board")) return fallback;
   try {
     BoardSpec b;
-    b.inner_corners_x = j.at("board").at("inner_corners").at(0).get<int>();
-    b.inner_corners_y = j.at("board").at("inner_corners").at(1).get<int>();
+    const nlohmann::json& corners = j.at("board").at("inner_corners");
+    b.inner_corners_x = static_cast<int>(JsonInteger(corners.at(0), 2, 1000, "board.inner_corners[0]"));
+    b.inner_corners_y = static_cast<int>(JsonInteger(corners.at(1), 2, 1000, "board.inner_corners[1]"));
     b.square_m = j.at("board").at("square_m").get<double>();
     if (b.inner_corners_x < 2 || b.inner_corners_y < 2 || !(b.square_m > 0)) throw Error("bad values");
     return b;

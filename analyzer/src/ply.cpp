@@ -186,6 +186,14 @@ std::vector<Eigen::Vector3d> ReadPly(const std::filesystem::path& path) {
   }
   if (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0) throw Error(where + ": vertex element lacks x, y or z");
 
+  // Every item takes at least one byte (binary) or one line (ASCII): a count
+  // beyond the bytes left is a corrupt header, refused before any allocation.
+  for (const PlyElement& element : elements) {
+    if (element.count > bytes.size() - pos) {
+      throw Error(where + ": element '" + element.name + "' announces " + std::to_string(element.count) +
+                  " items, more than the file's " + std::to_string(bytes.size() - pos) + " data bytes");
+    }
+  }
   std::vector<Eigen::Vector3d> points;
   points.reserve(vertex.count);
   if (format == "ascii") {
@@ -214,7 +222,11 @@ std::vector<Eigen::Vector3d> ReadPly(const std::filesystem::path& path) {
         if (p.list) throw Error(where + ": list property before the vertex element is not supported");
         item += static_cast<size_t>(p.size);
       }
-      pos += item * elements[e].count;
+      size_t skipped = 0;
+      if (__builtin_mul_overflow(item, elements[e].count, &skipped) || skipped > bytes.size() - pos) {
+        throw Error(where + ": PLY file is truncated inside element '" + elements[e].name + "'");
+      }
+      pos += skipped;
     }
     std::vector<size_t> offsets;
     size_t stride = 0;

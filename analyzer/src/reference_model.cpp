@@ -153,7 +153,10 @@ ReferenceModelOptions ReferenceModelOptions::Loose() {
 }
 
 void ReferenceModelOptions::Check() const {
-  if (num_points == 0) throw Error("reference model: num_points must be positive");
+  if (num_points == 0 || num_points > kMaxReferencePoints) {
+    throw Error("reference model: num_points (--points) " + std::to_string(num_points) + " must be 1 to " +
+                std::to_string(kMaxReferencePoints));
+  }
   if (!(depth_tolerance_m >= 0.0) || !std::isfinite(depth_tolerance_m)) {
     throw Error("reference model: depth_tolerance_m must be finite and >= 0");
   }

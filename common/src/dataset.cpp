@@ -5,6 +5,7 @@
 
 #include "aar/error.h"
 #include "aar/file_io.h"
+#include "aar/json_number.h"
 
 namespace aar {
 
@@ -77,7 +78,7 @@ FrameSidecar ReadSidecar(const std::filesystem::path& path) {
     FrameSidecar s;
     s.kind = j.at("kind").get<std::string>();
     if (s.kind != "frame" && s.kind != "calib") throw Error(where + ": unknown kind '" + s.kind + "'");
-    s.index = j.at("index").get<size_t>();
+    s.index = static_cast<size_t>(JsonInteger(j.at("index"), 0, kMaxDatasetFrames, where + ": index"));
     const bool calib = s.kind == "calib";
     s.tanker_from_target = PoseFromJson(j.at(calib ? "tanker_from_board" : "tanker_from_receiver"), where);
     if (!calib) {
@@ -90,8 +91,10 @@ FrameSidecar ReadSidecar(const std::filesystem::path& path) {
     s.rig = RigFromJson(j.at("rig"), where);
     if (j.contains("board")) {
       BoardSpec b;
-      b.inner_corners_x = j.at("board").at("inner_corners").at(0).get<int>();
-      b.inner_corners_y = j.at("board").at("inner_corners").at(1).get<int>();
+      b.inner_corners_x = static_cast<int>(
+          JsonInteger(j.at("board").at("inner_corners").at(0), 2, 1000, where + ": board.inner_corners[0]"));
+      b.inner_corners_y = static_cast<int>(
+          JsonInteger(j.at("board").at("inner_corners").at(1), 2, 1000, where + ": board.inner_corners[1]"));
       b.square_m = j.at("board").at("square_m").get<double>();
       s.board = b;
     }
@@ -119,6 +122,10 @@ bool SidecarVerified(const std::filesystem::path& dataset, const std::filesystem
   }
 }
 
+bool IsSha256Hex(const std::string& text) {
+  return text.size() == 64 && text.find_first_not_of("0123456789abcdef") == std::string::npos;
+}
+
 Manifest ReadManifest(const std::filesystem::path& dataset) {
   const std::filesystem::path path = dataset / kManifestName;
   if (!std::filesystem::is_regular_file(path)) {
@@ -129,10 +136,20 @@ Manifest ReadManifest(const std::filesystem::path& dataset) {
   try {
     m.schema = m.json.at("schema").get<std::string>();
     if (m.schema != kDatasetSchema) throw Error(path.string() + ": unsupported schema '" + m.schema + "'");
-    if (m.json.contains("frames")) m.frame_count = m.json.at("frames").at("count").get<size_t>();
-    if (m.json.contains("calib")) m.calib_pair_count = m.json.at("calib").at("count").get<size_t>();
+    // Counts above kMaxDatasetFrames are corrupt: a run would allocate for every frame.
+    for (const auto& [section, count] : {std::pair{"frames", &m.frame_count}, {"calib", &m.calib_pair_count}}) {
+      if (!m.json.contains(section)) continue;
+      *count = static_cast<size_t>(
+          JsonInteger(m.json.at(section).at("count"), 0, kMaxDatasetFrames, path.string() + ": " + section + ".count"));
+    }
     m.complete = m.json.value("complete", false);
-    for (const auto& [name, hash] : m.json.at("files").items()) m.files[name] = hash.get<std::string>();
+    const nlohmann::json& files = m.json.at("files");
+    if (!files.is_object()) throw Error(path.string() + ": 'files' must map relative paths to SHA-256");
+    for (const auto& [name, hash] : files.items()) {
+      m.files[name] = hash.get<std::string>();
+      if (!IsSha256Hex(m.files[name])) throw Error(path.string() + ": files['" + name + "'] is not a SHA-256");
+    }
+    if (m.complete && m.files.empty()) throw Error(path.string() + ": complete, but 'files' lists nothing");
   } catch (const nlohmann::json::exception& e) {
     throw Error(path.string() + ": malformed manifest: " + e.what());
   }

@@ -15,8 +15,11 @@ std::vector<FlightSample> ReadFlightPath(const std::filesystem::path& path) {
   std::string line;
   if (!std::getline(in, line))
     throw Error(path.string() + ":1: empty file, expected header '" + kFlightPathHeader + "'");
+  // A UTF-8 byte-order mark (spreadsheet exports) is not part of the header.
+  if (line.starts_with("\xEF\xBB\xBF")) line.erase(0, 3);
   if (TrimCr(line) != kFlightPathHeader) {
-    throw Error(path.string() + ":1: wrong header '" + TrimCr(line) + "', expected '" + kFlightPathHeader + "'");
+    throw Error(path.string() + ":1: wrong header '" + PrintableText(TrimCr(line)) + "', expected '" +
+                kFlightPathHeader + "'");
   }
   std::vector<FlightSample> samples;
   int line_number = 1;

@@ -16,6 +16,18 @@ std::vector<size_t> FrameSelection::Select(size_t frame_count) const {
   return frames;
 }
 
+void FrameSelection::CheckWithin(size_t frame_count, const std::string& what) const {
+  if (begin >= frame_count) {
+    throw Error(what + ": --frames starts at " + std::to_string(begin) + ", past the last frame (" +
+                std::to_string(frame_count) + " frames, 0 to " + std::to_string(frame_count - 1) + ")");
+  }
+}
+
+std::string FrameSelection::ShardSuffix() const {
+  if (shard_count <= 1) return "";
+  return "-shard" + std::to_string(shard_index) + "of" + std::to_string(shard_count);
+}
+
 FrameSelection ParseFrameSelection(const std::string& frames, const std::string& shard) {
   FrameSelection selection;
   if (!frames.empty()) {
@@ -33,8 +45,20 @@ FrameSelection ParseFrameSelection(const std::string& frames, const std::string&
     const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
     if (id != nullptr && count != nullptr) {
       const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
-      const long long k =
-          ParseInteger(id, "SLURM_ARRAY_TASK_ID") - (min != nullptr ? ParseInteger(min, "SLURM_ARRAY_TASK_MIN") : 0);
+      const char* max = std::getenv("SLURM_ARRAY_TASK_MAX");
+      const char* step = std::getenv("SLURM_ARRAY_TASK_STEP");
+      const long long first = min != nullptr ? ParseInteger(min, "SLURM_ARRAY_TASK_MIN") : 0;
+      const long long n = ParseInteger(count, "SLURM_ARRAY_TASK_COUNT");
+      // Shards are ID - MIN of COUNT: only a contiguous array (--array=A-B, step 1) covers every frame once.
+      const bool contiguous = (step == nullptr || ParseInteger(step, "SLURM_ARRAY_TASK_STEP") == 1) &&
+                              (max == nullptr || ParseInteger(max, "SLURM_ARRAY_TASK_MAX") - first + 1 == n);
+      if (!contiguous) {
+        throw Error(std::string("Slurm array is not contiguous (SLURM_ARRAY_TASK_MIN ") + (min ? min : "unset") +
+                    ", MAX " + (max ? max : "unset") + ", COUNT " + count + ", STEP " + (step ? step : "unset") +
+                    "): submit --array=0-" + std::to_string(n > 0 ? n - 1 : 0) + " or pass --shard K/N");
+      }
+      const long long k = ParseInteger(id, "SLURM_ARRAY_TASK_ID") - first;
+      if (k < 0) throw Error("SLURM_ARRAY_TASK_ID is below SLURM_ARRAY_TASK_MIN");
       shard_text = std::to_string(k) + "/" + count;
     }
   }

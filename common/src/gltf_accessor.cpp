@@ -27,10 +27,22 @@ GltfAccessor::GltfAccessor(const tinygltf::Model& model, int index, const std::s
   if (stride <= 0 || component_size_ <= 0 || components_ <= 0) {
     throw Error(where + ": accessor " + std::to_string(index) + " is malformed");
   }
+  // Every sum and product is checked: a huge `count` or offset must not wrap
+  // around and pass the bounds test.
   const size_t element_size = static_cast<size_t>(component_size_) * static_cast<size_t>(components_);
-  const size_t needed = accessor.count == 0 ? 0 : (accessor.count - 1) * static_cast<size_t>(stride) + element_size;
-  if (view.byteOffset + view.byteLength > buffer.data.size() || accessor.byteOffset + needed > view.byteLength) {
-    throw Error(where + ": accessor " + std::to_string(index) + " reads past the end of its buffer");
+  const std::string past_end = where + ": accessor " + std::to_string(index) + " reads past the end of its buffer";
+  size_t view_end = 0;
+  if (__builtin_add_overflow(view.byteOffset, view.byteLength, &view_end) || view_end > buffer.data.size()) {
+    throw Error(past_end);
+  }
+  size_t needed = 0;
+  if (accessor.count > 0 && (__builtin_mul_overflow(accessor.count - 1, static_cast<size_t>(stride), &needed) ||
+                             __builtin_add_overflow(needed, element_size, &needed))) {
+    throw Error(past_end + " (count " + std::to_string(accessor.count) + ")");
+  }
+  size_t accessor_end = 0;
+  if (__builtin_add_overflow(accessor.byteOffset, needed, &accessor_end) || accessor_end > view.byteLength) {
+    throw Error(past_end);
   }
   data_ = buffer.data.data() + view.byteOffset + accessor.byteOffset;
   stride_ = static_cast<size_t>(stride);

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "aar/error.h"
+#include "aar/json_number.h"
 
 namespace aar {
 namespace {
@@ -77,6 +78,7 @@ Eigen::Isometry3d IsometryFromJson(const nlohmann::json& j, const std::string& w
     if (!r.at(i).is_array() || r.at(i).size() != 3) throw Error(where + ": rotation must be 3x3");
     for (int c = 0; c < 3; ++c) a_from_b.linear()(i, c) = r.at(i).at(c).get<double>();
   }
+  if (!a_from_b.matrix().allFinite()) throw Error(where + ": translation_m or rotation is not finite");
   const Eigen::Matrix3d rr = a_from_b.linear();
   if ((rr.transpose() * rr - Eigen::Matrix3d::Identity()).norm() > 1e-6 || rr.determinant() < 0.999) {
     throw Error(where + ": rotation is not a proper rotation matrix");
@@ -102,9 +104,8 @@ nlohmann::json RigToJson(const StereoRig& rig) {
 StereoRig RigFromJson(const nlohmann::json& j, const std::string& where) {
   try {
     StereoRig rig;
-    const int width = j.at("image_width").get<int>();
-    const int height = j.at("image_height").get<int>();
-    if (width <= 0 || height <= 0 || width > 16384 || height > 16384) throw Error(where + ": bad image size");
+    const int width = static_cast<int>(JsonInteger(j.at("image_width"), 1, 16384, where + ": image_width"));
+    const int height = static_cast<int>(JsonInteger(j.at("image_height"), 1, 16384, where + ": image_height"));
     auto camera = [&](const char* name) {
       const nlohmann::json& c = j.at("cameras").at(name);
       Camera cam;
@@ -114,9 +115,13 @@ StereoRig RigFromJson(const nlohmann::json& j, const std::string& where) {
     };
     rig.left = camera("left");
     rig.right = camera("right");
-    rig.near_m = j.value("near_m", 0.5);
+    if (j.contains("near_m")) rig.near_m = FiniteNumber(j, "near_m", where);
+    if (!(rig.near_m > 0.0)) throw Error(where + ": near_m must be positive (the near clip plane) [m]");
     if (j.contains("contact_position_m")) {
-      for (int i = 0; i < 3; ++i) rig.contact_position_m(i) = j.at("contact_position_m").at(i).get<double>();
+      const nlohmann::json& contact = j.at("contact_position_m");
+      if (!contact.is_array() || contact.size() != 3) throw Error(where + ": contact_position_m must be [x, y, z]");
+      for (int i = 0; i < 3; ++i) rig.contact_position_m(i) = contact.at(i).get<double>();
+      if (!rig.contact_position_m.allFinite()) throw Error(where + ": contact_position_m is not finite");
     }
     return rig;
   } catch (const nlohmann::json::exception& e) {

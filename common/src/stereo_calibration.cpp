@@ -3,6 +3,7 @@
 #include <cmath>
 #include <opencv2/core/eigen.hpp>
 
+#include "aar/calibration_yaml.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
 
@@ -52,29 +53,58 @@ void WriteCalibration(const std::filesystem::path& path, const StereoCalibration
   WriteFileAtomic(path, CalibrationToYaml(calibration));
 }
 
-StereoCalibration ReadCalibration(const std::filesystem::path& path) {
-  if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": calibration file not found");
-  cv::FileStorage fs;
-  try {
-    if (!fs.open(path.string(), cv::FileStorage::READ)) throw Error(path.string() + ": cannot parse calibration file");
-  } catch (const cv::Exception& e) {
-    throw Error(path.string() + ": cannot parse calibration file (" + e.err + ")");
+void CheckCalibration(const StereoCalibration& c, const std::string& where) {
+  const auto positive = [&](const cv::Mat& m, int r, int col, const char* what) {
+    if (!(m.at<double>(r, col) > 0.0)) throw Error(where + ": " + what + " must be positive");
+  };
+  positive(c.M1, 0, 0, "M1 fx");
+  positive(c.M1, 1, 1, "M1 fy");
+  positive(c.M2, 0, 0, "M2 fx");
+  positive(c.M2, 1, 1, "M2 fy");
+  positive(c.P1, 0, 0, "P1 fx");
+  // Q = [[1,0,0,-cx],[0,1,0,-cy],[0,0,0,f],[0,0,1/b,0]] up to sign: re-projection needs f and 1/b.
+  if (c.Q.at<double>(2, 3) == 0.0 || c.Q.at<double>(3, 2) == 0.0) {
+    throw Error(where + ": Q has no focal length Q(2,3) or inverse baseline Q(3,2) (all-zero or degenerate Q)");
   }
-  StereoCalibration c;
+}
+
+StereoCalibration ReadCalibration(const std::filesystem::path& path) {
+  const std::string where = path.string();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw Error(where + ": calibration file not found");
+  if (std::filesystem::file_size(path, ec) > kMaxCalibrationYamlBytes) {
+    throw Error(where + ": larger than a calibration file can be (" + std::to_string(kMaxCalibrationYamlBytes) +
+                " bytes)");
+  }
+  std::map<std::string, cv::Mat> nodes;
+  try {
+    nodes = ParseOpenCvYaml(ReadFileBytes(path), where);
+  } catch (const Error& e) {
+    throw Error(std::string(e.what()) + " (cannot parse calibration file)");
+  }
   auto read = [&](const char* name, int rows, int cols) {
-    cv::Mat m;
-    fs[name] >> m;
-    if (m.empty()) throw Error(path.string() + ": missing node " + name);
+    const auto it = nodes.find(name);
+    if (it == nodes.end() || it->second.empty()) throw Error(where + ": missing node " + name);
+    const cv::Mat& m = it->second;
     if (m.rows != rows || m.cols != cols) {
-      throw Error(path.string() + ": node " + name + " is " + std::to_string(m.rows) + "x" + std::to_string(m.cols) +
+      throw Error(where + ": node " + name + " is " + std::to_string(m.rows) + "x" + std::to_string(m.cols) +
                   ", expected " + std::to_string(rows) + "x" + std::to_string(cols));
     }
-    m.convertTo(m, CV_64F);
-    if (!cv::checkRange(m)) throw Error(path.string() + ": node " + std::string(name) + " has non-finite values");
-    return m;
+    if (!cv::checkRange(m)) throw Error(where + ": node " + std::string(name) + " has non-finite values");
+    return m.clone();
   };
-  fs["image_size"] >> c.image_size;
-  if (c.image_size.width <= 0 || c.image_size.height <= 0) throw Error(path.string() + ": missing or bad image_size");
+  StereoCalibration c;
+  const auto size = nodes.find("image_size");
+  if (size == nodes.end() || size->second.rows != 1 || size->second.cols != 2) {
+    throw Error(where + ": missing or bad image_size (expected [ width, height ])");
+  }
+  const double width = size->second.at<double>(0, 0);
+  const double height = size->second.at<double>(0, 1);
+  if (!(width >= 1 && width <= 16384 && height >= 1 && height <= 16384) || width != std::floor(width) ||
+      height != std::floor(height)) {
+    throw Error(where + ": image_size must be two integers from 1 to 16384");
+  }
+  c.image_size = cv::Size(static_cast<int>(width), static_cast<int>(height));
   c.M1 = read("M1", 3, 3);
   c.D1 = read("D1", 1, 5);
   c.M2 = read("M2", 3, 3);
@@ -86,6 +116,7 @@ StereoCalibration ReadCalibration(const std::filesystem::path& path) {
   c.P1 = read("P1", 3, 4);
   c.P2 = read("P2", 3, 4);
   c.Q = read("Q", 4, 4);
+  CheckCalibration(c, where);
   return c;
 }
 

@@ -7,6 +7,7 @@
 #include "aar/dataset.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
+#include "aar/folder_lock.h"
 
 namespace aar {
 namespace {
@@ -27,11 +28,17 @@ std::string FirstMismatch(const nlohmann::json& wanted, const nlohmann::json& ex
   return prefix + ": was " + existing.dump() + ", now " + wanted.dump();
 }
 
+// True when `dir` exists and holds any entry.
+bool HasEntries(const std::filesystem::path& dir) {
+  std::error_code ec;
+  return std::filesystem::is_directory(dir, ec) && !std::filesystem::is_empty(dir, ec);
+}
+
 }  // namespace
 
 nlohmann::json RendererIdentity() { return {{"name", "aar-render"}, {"version", AAR_VERSION}, {"git", AAR_GIT_HASH}}; }
 
-void OpenManifest(const std::filesystem::path& dataset, const nlohmann::json& header) {
+nlohmann::json MergeManifest(const std::filesystem::path& dataset, const nlohmann::json& header) {
   const std::filesystem::path path = dataset / kManifestName;
   nlohmann::json manifest = nlohmann::json::object();
   nlohmann::json wanted = header;
@@ -49,23 +56,46 @@ void OpenManifest(const std::filesystem::path& dataset, const nlohmann::json& he
       throw Error(path.string() + ": the dataset was made with other settings (" + mismatch +
                   "); render into a new folder or repeat the original settings");
     }
+  } else if (HasEntries(dataset / kFramesDir) || HasEntries(dataset / kCalibDir)) {
+    // Without the manifest nothing says which inputs made these frames.
+    throw Error(path.string() + ": missing, but " + dataset.string() +
+                " holds frames/ or calib/; render into a new folder");
   }
   manifest.merge_patch(wanted);
   if (!manifest.contains("files")) manifest["files"] = nlohmann::json::object();
   if (!manifest.contains("complete")) manifest["complete"] = false;
-  WriteJsonFile(path, manifest);
+  return manifest;
 }
 
-std::string CopyInput(const std::filesystem::path& dataset, const std::filesystem::path& source,
-                      const std::string& name) {
+void OpenManifest(const std::filesystem::path& dataset, const nlohmann::json& header,
+                  const std::function<void()>& write_inputs) {
+  const FileLock lock(dataset / kManifestLockName, LockMode::kExclusive);
+  const nlohmann::json manifest = MergeManifest(dataset, header);
+  write_inputs();
+  WriteJsonFile(dataset / kManifestName, manifest);
+}
+
+void CopyInput(const std::filesystem::path& dataset, const std::filesystem::path& source, const std::string& name,
+               const std::string& sha256) {
   const std::string bytes = ReadFileBytes(source);
-  const std::string hash = Sha256Hex(bytes);
+  if (Sha256Hex(bytes) != sha256) throw Error(source.string() + ": changed while the run started");
   const std::filesystem::path target = dataset / name;
-  if (!std::filesystem::is_regular_file(target) || Sha256File(target) != hash) WriteFileAtomic(target, bytes);
-  return hash;
+  if (!std::filesystem::is_regular_file(target) || Sha256File(target) != sha256) WriteFileAtomic(target, bytes);
+}
+
+FileLock LockDatasetForWriting(const std::filesystem::path& dataset) {
+  FileLock writers = FileLock::TryLock(dataset / kWritersLockName, LockMode::kExclusive);
+  if (writers.held()) {
+    // No other run is writing: temporaries of interrupted writes are stale.
+    for (const char* dir : {"", kFramesDir, kCalibDir}) RemoveStaleTemporaries(dataset / dir);
+    writers.Change(LockMode::kShared);
+    return writers;
+  }
+  return FileLock(dataset / kWritersLockName, LockMode::kShared);
 }
 
 bool FinalizeManifest(const std::filesystem::path& dataset) {
+  const FileLock lock(dataset / kManifestLockName, LockMode::kExclusive);
   Manifest manifest = ReadManifest(dataset);
   nlohmann::json files = nlohmann::json::object();
   bool complete = true;

@@ -179,10 +179,8 @@ RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size
   return result;
 }
 
-nlohmann::json CommonHeader(const Session& session, const std::filesystem::path& dataset,
-                            const RenderJobOptions& options) {
-  const std::string rig_hash = CopyInput(dataset, options.rig, kRigName);
-  WriteCalibration(dataset / kIdealCalibrationName, IdealCalibration(session.rig));
+// The manifest keys both jobs share; computes hashes, writes nothing.
+nlohmann::json CommonHeader(const Session& session, const std::string& rig_hash) {
   return {{"schema", kDatasetSchema},
           {"renderer", RendererIdentity()},
           {"device", DeviceJson(session.context->info())},
@@ -195,12 +193,19 @@ nlohmann::json CommonHeader(const Session& session, const std::filesystem::path&
 
 }  // namespace
 
-void RenderJobOptions::Check() const { CheckMsaaLevel(msaa); }
+void RenderJobOptions::Check() const {
+  CheckMsaaLevel(msaa);
+  if (!(anisotropy >= 1.0f && anisotropy <= 16.0f)) {
+    throw Error("--anisotropy " + std::to_string(anisotropy) + ": expected 1 (trilinear) to 16");
+  }
+}
 
 RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   options.Check();
   const StereoRig rig = LoadRig(options.rig);
+  const StereoCalibration ideal = IdealCalibration(rig);  // throws, writing nothing, for a rig it cannot describe
   const std::vector<FlightSample> path = ReadFlightPath(options.flight_path);
+  options.selection.CheckWithin(path.size(), options.flight_path.string());
   const SceneModel receiver = LoadSceneModel(options.receiver_model);
   const SceneModel tanker = LoadSceneModel(options.tanker_model);
   CheckOutputFolder(options.output);
@@ -210,19 +215,26 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   const std::vector<Eigen::Vector3d> receiver_points = receiver.AllPositions();
 
   EnsureWritableDirectory(options.output);
-  nlohmann::json header = CommonHeader(session, options.output, options);
-  header["inputs"]["receiver_model"] = {
-      {"file", kReceiverModelName}, {"sha256", CopyInput(options.output, options.receiver_model, kReceiverModelName)}};
+  const FileLock writing = LockDatasetForWriting(options.output);
+  const std::string rig_hash = Sha256File(options.rig);
+  const std::string receiver_hash = Sha256File(options.receiver_model);
+  const std::string path_hash = Sha256File(options.flight_path);
+  nlohmann::json header = CommonHeader(session, rig_hash);
+  header["inputs"]["receiver_model"] = {{"file", kReceiverModelName}, {"sha256", receiver_hash}};
   header["inputs"]["tanker_model"] = {{"source", options.tanker_model.filename().string()},
                                       {"sha256", Sha256File(options.tanker_model)}};
-  header["inputs"]["flight_path"] = {{"file", kFlightPathName},
-                                     {"sha256", CopyInput(options.output, options.flight_path, kFlightPathName)}};
+  header["inputs"]["flight_path"] = {{"file", kFlightPathName}, {"sha256", path_hash}};
   header["frames"] = {{"count", path.size()},
                       {"msaa", MsaaJson(session.plan)},
                       {"depth", options.depth || options.depth_right},
                       {"depth_right", options.depth_right},
                       {"texture_anisotropy", options.anisotropy}};
-  OpenManifest(options.output, header);
+  OpenManifest(options.output, header, [&] {
+    CopyInput(options.output, options.rig, kRigName, rig_hash);
+    CopyInput(options.output, options.receiver_model, kReceiverModelName, receiver_hash);
+    CopyInput(options.output, options.flight_path, kFlightPathName, path_hash);
+    WriteCalibration(options.output / kIdealCalibrationName, ideal);
+  });
 
   return RunPairs(options, session, path.size(), "frame", "render x" + std::to_string(options.msaa), [&](size_t i) {
     const Eigen::Isometry3d tanker_from_receiver = IsometryFromPose(path[i].tanker_from_receiver);
@@ -245,10 +257,12 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
 RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   options.Check();
   const StereoRig rig = LoadRig(options.rig);
+  const StereoCalibration ideal = IdealCalibration(rig);  // throws, writing nothing, for a rig it cannot describe
   const SceneModel board = LoadSceneModel(options.board_model);
   CalibPoseOptions pose_options;
   pose_options.far_distances_m = options.far_boards_m;
   const std::vector<Pose> poses = CalibrationBoardPoses(rig, pose_options);
+  options.selection.CheckWithin(poses.size(), "calibration board poses");
   CheckOutputFolder(options.output);
   Session session = OpenSession(options, rig);
   const int board_index = session.renderer->AddModel(board);
@@ -256,7 +270,9 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   const BoardSpec spec;
 
   EnsureWritableDirectory(options.output);
-  nlohmann::json header = CommonHeader(session, options.output, options);
+  const FileLock writing = LockDatasetForWriting(options.output);
+  const std::string rig_hash = Sha256File(options.rig);
+  nlohmann::json header = CommonHeader(session, rig_hash);
   header["inputs"]["board_model"] = {{"source", options.board_model.filename().string()},
                                      {"sha256", Sha256File(options.board_model)}};
   header["calib"] = {
@@ -265,7 +281,10 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
       {"msaa", MsaaJson(session.plan)},
       {"texture_anisotropy", options.anisotropy},
       {"board", {{"inner_corners", {spec.inner_corners_x, spec.inner_corners_y}}, {"square_m", spec.square_m}}}};
-  OpenManifest(options.output, header);
+  OpenManifest(options.output, header, [&] {
+    CopyInput(options.output, options.rig, kRigName, rig_hash);
+    WriteCalibration(options.output / kIdealCalibrationName, ideal);
+  });
 
   return RunPairs(options, session, poses.size(), "calib", "calib x" + std::to_string(options.msaa), [&](size_t i) {
     const Eigen::Isometry3d tanker_from_board = IsometryFromPose(poses[i]);

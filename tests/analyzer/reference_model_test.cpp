@@ -399,6 +399,19 @@ TEST(ReferenceModel, ReadPlyRejectsBadFilesWithReasons) {
                "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
                "property float z\nend_header\n1 two 3\n",
                "malformed value");
+  // A header announcing 10^15 vertices is refused before any memory is reserved for them.
+  for (const char* format : {"ascii", "binary_little_endian"}) {
+    expect_error(std::string("huge_") + format + ".ply",
+                 std::string("ply\nformat ") + format +
+                     " 1.0\nelement vertex 1000000000000000\nproperty float x\nproperty float y\n"
+                     "property float z\nend_header\n1 2 3\n",
+                 "element 'vertex' announces 1000000000000000 items");
+  }
+  // A skipped element whose size overflows size_t.
+  expect_error("overflow.ply",
+               "ply\nformat binary_little_endian 1.0\nelement face 4611686018427387904\nproperty int a\n"
+               "element vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
+               "element 'face' announces");
 }
 
 }  // namespace

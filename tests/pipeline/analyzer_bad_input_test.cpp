@@ -7,12 +7,15 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <opencv2/imgcodecs.hpp>
+#include <tuple>
 
 #include "aar/analyzer/analysis_run.h"
 #include "aar/analyzer/pose_statistics.h"
 #include "aar/dataset.h"
 #include "aar/file_io.h"
+#include "aar/folder_lock.h"
 #include "pipeline_support.h"
 
 namespace aar {
@@ -172,6 +175,159 @@ TEST(AnalyzeBadInput, ReceiverOutOfViewIsRecordedAndTheRunGoesOn) {
   const nlohmann::json all = ReadJsonFile(out / kSummaryJsonName).at("models").at("shelled").at("all");
   EXPECT_EQ(all.at("ok").get<size_t>(), 1u);
   EXPECT_EQ(all.at("failed").get<size_t>(), 1u);
+}
+
+}  // namespace
+}  // namespace aar
+
+namespace aar {
+namespace {
+
+// Robustness of runs, merges and inputs (issue 10): each refusal is one line
+// naming the file, a non-zero exit, and nothing written.
+class AnalyzeRobustness : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_DATASETS();
+    dataset_ = dir_ / "dataset";
+    test::CopyDataset(SharedDatasets().out_of_view, dataset_);
+  }
+  std::string RunArgs(const fs::path& out, const std::string& extra = "") const {
+    return "run " + Quote(dataset_) + " --model shelled --no-progress --calibration " +
+           Quote(dataset_ / kIdealCalibrationName) + " --out " + Quote(out) + " " + extra;
+  }
+  void EditManifest(const std::function<void(nlohmann::json&)>& edit) const {
+    nlohmann::json manifest = ReadJsonFile(dataset_ / kManifestName);
+    edit(manifest);
+    WriteJsonFile(dataset_ / kManifestName, manifest);
+  }
+  TempDir dir_{"analyze-robustness"};
+  fs::path dataset_;
+};
+
+TEST_F(AnalyzeRobustness, ChangedInputCopiesAreRefused) {
+  const std::vector<std::pair<std::string, std::string>> swaps = {{kReceiverModelName, "scenes/kc46.glb"},
+                                                                  {kRigName, ""}};
+  for (const auto& [name, replacement] : swaps) {
+    SCOPED_TRACE(name);
+    const std::string original = ReadFileBytes(dataset_ / name);
+    std::string changed = replacement.empty() ? original : ReadFileBytes(test::SourcePath(replacement));
+    if (replacement.empty()) changed.replace(changed.find("\"near_m\": 0.5"), 13, "\"near_m\": 0.6");
+    WriteFileAtomic(dataset_ / name, changed);
+    const fs::path out = dir_ / ("out-" + name);
+    ExpectCleanFailure(RunAnalyze(RunArgs(out)), {(dataset_ / name).string(), "SHA-256 differs from manifest.json's"},
+                       out);
+    WriteFileAtomic(dataset_ / name, original);
+  }
+}
+
+TEST_F(AnalyzeRobustness, ManifestsThatWouldSkipChecksAreRefused) {
+  const std::vector<std::tuple<std::string, std::function<void(nlohmann::json&)>, std::string>> cases = {
+      {"files-array", [](nlohmann::json& m) { m["files"] = nlohmann::json::array(); }, "'files' must map"},
+      {"files-empty", [](nlohmann::json& m) { m["files"] = nlohmann::json::object(); }, "complete, but 'files'"},
+      {"frame-unlisted", [](nlohmann::json& m) { m["files"].erase("frames/000001.json"); },
+       "does not list frames/000001.json"},
+      {"huge-count", [](nlohmann::json& m) { m["frames"]["count"] = 1000000000000000ull; }, "above 10000000"},
+      {"count-differs", [](nlohmann::json& m) { m["frames"]["count"] = 3; }, "differs from the 2 samples"},
+  };
+  const std::string original = ReadFileBytes(dataset_ / kManifestName);
+  for (const auto& [name, edit, reason] : cases) {
+    SCOPED_TRACE(name);
+    EditManifest(edit);
+    const fs::path out = dir_ / ("out-" + name);
+    ExpectCleanFailure(RunAnalyze(RunArgs(out)), {(dataset_ / kManifestName).string(), reason}, out);
+    WriteFileAtomic(dataset_ / kManifestName, original);
+  }
+  const fs::path out = dir_ / "out-past-end";
+  ExpectCleanFailure(RunAnalyze(RunArgs(out, "--frames 5:9")), {"--frames starts at 5, past the last frame"}, out);
+}
+
+TEST_F(AnalyzeRobustness, OutputFolderInUseIsRefused) {
+  const fs::path out = dir_ / "out";
+  fs::create_directories(out);
+  const FileLock held = LockOutputFolder(out);
+  const test::CommandResult r = RunAnalyze(RunArgs(out));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(test::CountLines(r.output), 1u) << r.output;
+  EXPECT_TRUE(Contains(r.output, out.string() + ": output folder in use by another run")) << r.output;
+  EXPECT_FALSE(fs::exists(out / kRunJsonName));
+}
+
+TEST_F(AnalyzeRobustness, ShardsGetDistinctDefaultOutputFolders) {
+  for (const char* task : {"0", "1"}) {
+    const std::string command = "cd " + Quote(dir_.path()) + " && env SLURM_ARRAY_TASK_ID=" + task +
+                                " SLURM_ARRAY_TASK_COUNT=2 SLURM_ARRAY_TASK_MIN=0 SLURM_ARRAY_TASK_MAX=1 " +
+                                Quote(test::AnalyzeExe()) + " run " + Quote(dataset_) +
+                                " --model shelled --no-progress --calibration " +
+                                Quote(dataset_ / kIdealCalibrationName);
+    const test::CommandResult r = test::RunCommand(command);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  for (const char* shard : {"0", "1"}) {
+    const fs::path out = dir_ / "results" / ("dataset-shelled-shard" + std::string(shard) + "of2");
+    ASSERT_TRUE(fs::is_regular_file(out / kFramesCsvName)) << out;
+    EXPECT_EQ(ReadFrameResults(out / kFramesCsvName).size(), 1u);
+  }
+}
+
+TEST_F(AnalyzeRobustness, MergeRefusesUnfinishedOrForeignShardsAndItsOwnInputs) {
+  const fs::path s0 = dir_ / "s0", s1 = dir_ / "s1";
+  ASSERT_EQ(RunAnalyze(RunArgs(s0, "--shard 0/2")).exit_code, 0);
+  ASSERT_EQ(RunAnalyze(RunArgs(s1, "--shard 1/2")).exit_code, 0);
+  const std::string s1_frames = ReadFileBytes(s1 / kFramesCsvName);
+
+  const auto merge = [&](const fs::path& out) {
+    return RunAnalyze("merge " + Quote(s0) + " " + Quote(s1) + " --out " + Quote(out));
+  };
+  // --out is a shard: refused before anything is written.
+  const test::CommandResult into_shard = RunAnalyze("merge " + Quote(s0) + " " + Quote(s1) + " --out " + Quote(s1));
+  EXPECT_EQ(into_shard.exit_code, 1) << into_shard.output;
+  EXPECT_TRUE(Contains(into_shard.output, "--out is one of the shard folders")) << into_shard.output;
+  EXPECT_EQ(ReadFileBytes(s1 / kFramesCsvName), s1_frames);
+  // An incomplete run.json names its file.
+  const std::string run = ReadFileBytes(s1 / kRunJsonName);
+  nlohmann::json partial = nlohmann::json::parse(run);
+  partial.erase("options");
+  WriteJsonFile(s1 / kRunJsonName, partial);
+  ExpectCleanFailure(merge(dir_ / "m1"), {(s1 / kRunJsonName).string(), "incomplete run.json (no 'options')"},
+                     dir_ / "m1");
+  // A run that did not finish has no run.json (it is removed first, written last).
+  fs::remove(s1 / kRunJsonName);
+  ExpectCleanFailure(merge(dir_ / "m2"), {(s1 / kRunJsonName).string(), "the run did not finish"}, dir_ / "m2");
+  // frames.csv of another run beside this run.json.
+  WriteFileAtomic(s1 / kRunJsonName, run);
+  WriteFileAtomic(s1 / kFramesCsvName, ReadFileBytes(s0 / kFramesCsvName) + s1_frames.substr(s1_frames.find('\n') + 1));
+  ExpectCleanFailure(merge(dir_ / "m3"), {(s1 / kFramesCsvName).string(), "but run.json says 1 were analyzed"},
+                     dir_ / "m3");
+  WriteFileAtomic(s1 / kFramesCsvName, s1_frames);
+  const test::CommandResult ok = merge(dir_ / "m4");
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_EQ(ReadFrameResults(dir_ / "m4" / kFramesCsvName).size(), 2u);
+}
+
+TEST_F(AnalyzeRobustness, RerunIntoAUsedFolderRemovesLeftovers) {
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(RunAnalyze(RunArgs(out)).exit_code, 0);
+  WriteFileAtomic(out / ".tmp999.frames.csv", "partial");
+  ASSERT_EQ(RunAnalyze(RunArgs(out)).exit_code, 0);
+  EXPECT_FALSE(fs::exists(out / ".tmp999.frames.csv"));
+  EXPECT_TRUE(fs::is_regular_file(out / kRunJsonName));
+}
+
+TEST(AnalyzeCommandLine, HugeReferencePointCountIsRefusedByName) {
+  TempDir dir("analyze-points");
+  const fs::path out = dir / "r.ply";
+  const test::CommandResult r = RunAnalyze("reference --model full --points 100000000000000 --out " + Quote(out));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(test::CountLines(r.output), 1u) << r.output;
+  EXPECT_TRUE(Contains(r.output, "num_points (--points) 100000000000000 must be 1 to 10000000")) << r.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(AnalyzeCommandLine, VersionNamesTheReleaseAndTheBuild) {
+  const test::CommandResult r = RunAnalyze("--version");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.rfind(std::string("aar-analyze ") + AAR_TEST_VERSION + " (git ", 0), 0u) << r.output;
 }
 
 }  // namespace

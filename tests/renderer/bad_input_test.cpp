@@ -32,6 +32,15 @@ const char* const kBadAccessorGltf =
     R"("bufferViews":[{"buffer":0,"byteLength":12}],)"
     R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[0,0,0]}]})";
 
+// The same triangle with count 2^62 + 1: (count - 1) * 12 + 12 wraps around to
+// 12 bytes in 64-bit arithmetic, which a naive bounds check lets through.
+const char* const kHugeCountGltf =
+    R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],)"
+    R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+    R"("buffers":[{"byteLength":12,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAA"}],)"
+    R"("bufferViews":[{"buffer":0,"byteLength":12}],)"
+    R"("accessors":[{"bufferView":0,"componentType":5126,"count":4611686018427387905,"type":"VEC3"}]})";
+
 TEST_P(RenderBadInput, FailsWithOneClearMessageAndWritesNothing) {
   const BadInputCase& c = GetParam();
   TempDir dir("bad-" + c.name);
@@ -42,6 +51,10 @@ TEST_P(RenderBadInput, FailsWithOneClearMessageAndWritesNothing) {
   }
   WriteFileAtomic(dir / "corrupt.glb", "glTF this is not a binary glTF file");
   WriteFileAtomic(dir / "bad-accessor.gltf", kBadAccessorGltf);
+  WriteFileAtomic(dir / "huge-count.gltf", kHugeCountGltf);
+  std::string rig = ReadFileBytes(SourcePath("scenes/rig.json"));
+  rig.replace(rig.find("\"near_m\": 0.5"), 13, "\"near_m\": 0.0");
+  WriteFileAtomic(dir / "near0.json", rig);
   WriteFileAtomic(dir / "a-file", "x");
   std::string flags = c.extra_flags;
   for (const auto& [key, value] : {std::pair<std::string, std::string>{"@DIR@", dir.path().string()}}) {
@@ -70,6 +83,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadInputCase{"corrupt-gltf", "", "--receiver @DIR@/corrupt.glb", "", "corrupt.glb: not a valid glTF"},
         BadInputCase{"bad-accessor", "", "--receiver @DIR@/bad-accessor.gltf", "",
                      "bad-accessor.gltf: accessor 0 reads past the end of its buffer"},
+        BadInputCase{"huge-count", "", "--receiver @DIR@/huge-count.gltf", "",
+                     "huge-count.gltf: accessor 0 reads past the end of its buffer"},
+        BadInputCase{"near-zero", "", "--rig @DIR@/near0.json", "", "near0.json: near_m must be positive"},
+        BadInputCase{"anisotropy-0", "", "--anisotropy 0", "", "--anisotropy 0.000000: expected 1 (trilinear) to 16"},
+        BadInputCase{"anisotropy-17", "", "--anisotropy 17", "", "--anisotropy 17.000000: expected 1"},
+        BadInputCase{"anisotropy-neg", "", "--anisotropy -1", "", "--anisotropy -1.000000: expected 1"},
+        BadInputCase{"anisotropy-nan", "", "--anisotropy nan", "", "--anisotropy nan: expected 1"},
+        BadInputCase{"frames-past-end", "", "--frames 700:800", "", "--frames starts at 700, past the last frame"},
         BadInputCase{"wrong-header", "t,x,y,z,r,p,yaw\n0,1,2,3,0,0,0\n", "", "", "path.csv:1: wrong header"},
         BadInputCase{"nan", kHeader + "0,-47,0,-19,0,0,0\n0.5,nan,0,-19,0,0,0\n", "", "",
                      "path.csv:3: field x_m: 'nan' is not a finite number"},
@@ -122,6 +143,12 @@ TEST(RenderCommandLine, HelpListsSubcommandsAndTheirFlags) {
   const test::CommandResult bench = RunCommand(render + " bench --help");
   EXPECT_NE(bench.output.find("--levels"), std::string::npos) << bench.output;
   EXPECT_EQ(bench.output.find("--board"), std::string::npos) << bench.output;
+}
+
+TEST(RenderCommandLine, VersionNamesTheReleaseAndTheBuild) {
+  const test::CommandResult result = RunCommand(test::BinaryPath("renderer/aar-render").string() + " --version");
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_EQ(result.output.rfind(std::string("aar-render ") + AAR_TEST_VERSION + " (git ", 0), 0u) << result.output;
 }
 
 TEST(RenderCommandLine, MissingOrUnknownSubcommandIsAUsageError) {

@@ -38,6 +38,9 @@ inline constexpr const char* kReceiverModelName = "receiver.glb";
 inline constexpr const char* kIdealCalibrationName = "calibration_ideal.yaml";
 inline constexpr const char* kFramesDir = "frames";
 inline constexpr const char* kCalibDir = "calib";
+/// Most frames (or calibration pairs) a manifest may announce: 10^7 is about
+/// 46 hours at 60 Hz; larger counts are refused as corrupt.
+inline constexpr size_t kMaxDatasetFrames = 10'000'000;
 
 /// Calibration board geometry (thesis 3.3).
 struct BoardSpec {
@@ -93,7 +96,12 @@ struct Manifest {
   nlohmann::json json;
 };
 
-/// Reads DATASET/manifest.json; throws aar::Error when missing or malformed.
+/// True for 64 lower-case hex digits.
+bool IsSha256Hex(const std::string& text);
+
+/// Reads DATASET/manifest.json; throws aar::Error when missing or malformed
+/// (counts above kMaxDatasetFrames, `files` not an object of SHA-256 values,
+/// or `complete` with an empty `files`).
 Manifest ReadManifest(const std::filesystem::path& dataset);
 
 /// Reads a JSON file; throws aar::Error naming the file.

@@ -3,7 +3,8 @@
 // either end may be omitted) and an optional shard `--shard K/N` (frames whose
 // index i satisfies i % N == K). When no shard is given and the Slurm job-array
 // variables SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT are set, they are used
-// (task ids are taken relative to SLURM_ARRAY_TASK_MIN, default 0).
+// (task ids are taken relative to SLURM_ARRAY_TASK_MIN, default 0; an array
+// that is not contiguous, per SLURM_ARRAY_TASK_MAX and _STEP, is refused).
 
 #include <cstddef>
 #include <string>
@@ -19,6 +20,12 @@ struct FrameSelection {
 
   /// The selected frame indices among `frame_count`, ascending.
   std::vector<size_t> Select(size_t frame_count) const;
+  /// Throws aar::Error prefixed by `what` (the dataset or flight path) when
+  /// the range starts at or past `frame_count` (a range wholly past the end
+  /// selects nothing; a shard may legitimately select nothing).
+  void CheckWithin(size_t frame_count, const std::string& what) const;
+  /// "-shardKofN" for a shard, "" otherwise (distinct default output folders).
+  std::string ShardSuffix() const;
 };
 
 /// Parses `--frames` and `--shard` values (empty string = not given) and the

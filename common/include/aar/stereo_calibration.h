@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "aar/rig.h"
 
@@ -31,8 +32,14 @@ std::string CalibrationToYaml(const StereoCalibration& calibration);
 /// Writes a calibration atomically.
 void WriteCalibration(const std::filesystem::path& path, const StereoCalibration& calibration);
 
-/// Reads and validates a calibration file; throws aar::Error naming the file
-/// and the missing or malformed node.
+/// Throws aar::Error prefixed by `where` when a calibration cannot re-project:
+/// non-positive focal lengths in M1, M2 or P1, or a Q without focal length
+/// Q(2,3) or inverse baseline Q(3,2).
+void CheckCalibration(const StereoCalibration& calibration, const std::string& where);
+
+/// Reads and validates a calibration file (calibration_yaml.h's strict reader,
+/// never OpenCV's parser); throws aar::Error naming the file, the line when
+/// known, and the missing or malformed node.
 StereoCalibration ReadCalibration(const std::filesystem::path& path);
 
 }  // namespace aar

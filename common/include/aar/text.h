@@ -20,6 +20,10 @@ double ParseFiniteDouble(std::string_view text, const std::string& where);
 /// Parses a non-negative integer that spans the whole field.
 long long ParseInteger(std::string_view text, const std::string& where);
 
+/// `text` with every byte outside printable ASCII written as \xHH, for
+/// messages that quote file content.
+std::string PrintableText(std::string_view text);
+
 /// Fixed-point formatting independent of the locale, "-0" printed as "0".
 std::string FormatFixed(double value, int decimals);
 

@@ -38,8 +38,11 @@ enum class ShellCameras {
 std::string ToString(ShellCameras cameras);
 ShellCameras ParseShellCameras(const std::string& text);
 
+/// Most full-model points Check() accepts (about 1 GB of points and normals).
+inline constexpr size_t kMaxReferencePoints = 10'000'000;
+
 struct ReferenceModelOptions {
-  size_t num_points = 48686;  ///< full-model points (thesis 3.2)
+  size_t num_points = 48686;  ///< full-model points (thesis 3.2), 1 to kMaxReferencePoints
   uint64_t seed = 1;          ///< seed of the surface sampler (std::mt19937_64)
   /// Receiver pose used to shell the model; nullopt = the rig's
   /// contact_position_m with zero roll, pitch and yaw.

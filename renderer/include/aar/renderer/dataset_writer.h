@@ -4,30 +4,47 @@
 // stereo_render_job.
 
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+
+#include "aar/folder_lock.h"
 
 namespace aar {
 
 /// Renderer name, version and git hash, as recorded in manifests.
 nlohmann::json RendererIdentity();
 
-/// Creates DATASET/manifest.json from `header`, or, when one exists, checks
-/// that every key of `header` that the existing manifest also has is equal
-/// (same inputs, device, MSAA, image size) and merges the new sections in.
-/// Throws aar::Error naming the first mismatching key otherwise. A different
-/// renderer build only warns (the manifest keeps the first build's identity).
-void OpenManifest(const std::filesystem::path& dataset, const nlohmann::json& header);
+/// The manifest a run with `header` writes: `header` itself for a new dataset,
+/// or the existing manifest with `header`'s new sections merged in, after
+/// checking that every key of `header` that the existing manifest also has is
+/// equal (same inputs, device, MSAA, image size). Throws aar::Error naming the
+/// first mismatching key, or when frames/ or calib/ hold files but there is no
+/// manifest. A different renderer build only warns (the manifest keeps the
+/// first build's identity). Writes nothing.
+nlohmann::json MergeManifest(const std::filesystem::path& dataset, const nlohmann::json& header);
+
+/// Under the dataset's manifest lock (folder_lock.h): MergeManifest, then
+/// `write_inputs` (the copies of the inputs), then the manifest; so a refused
+/// run writes nothing and two runs never both pass the check.
+void OpenManifest(const std::filesystem::path& dataset, const nlohmann::json& header,
+                  const std::function<void()>& write_inputs);
 
 /// Copies `source` into the dataset as `name` (atomically) unless an identical
-/// file is already there; returns the copy's SHA-256.
-std::string CopyInput(const std::filesystem::path& dataset, const std::filesystem::path& source,
-                      const std::string& name);
+/// file is already there; throws when its SHA-256 is no longer `sha256`.
+void CopyInput(const std::filesystem::path& dataset, const std::filesystem::path& source, const std::string& name,
+               const std::string& sha256);
+
+/// The lock every writing run holds for its whole duration (shared, so that
+/// shards render into one folder together). The first writer, finding no
+/// other, removes the `.tmp*` files interrupted writes left (folder_lock.h).
+FileLock LockDatasetForWriting(const std::filesystem::path& dataset);
 
 /// Recomputes the manifest's "files" list from the sidecars and the top-level
 /// files, and sets "complete" when every frame and calibration pair the
 /// manifest announces has a sidecar, then writes SHA256SUMS (every listed
-/// file and manifest.json, for `sha256sum -c`). Returns "complete".
+/// file and manifest.json, for `sha256sum -c`). Returns "complete". Holds
+/// the manifest lock while it reads and writes.
 bool FinalizeManifest(const std::filesystem::path& dataset);
 
 }  // namespace aar

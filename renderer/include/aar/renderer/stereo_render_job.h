@@ -9,19 +9,20 @@
 #include <string>
 #include <vector>
 
+#include "aar/data_path.h"
 #include "aar/frame_selection.h"
 
 namespace aar {
 
 struct RenderJobOptions {
-  std::filesystem::path output;                                  ///< dataset folder (created)
-  std::filesystem::path rig = "scenes/rig.json";                 ///< camera rig
-  std::filesystem::path receiver_model = "scenes/c12.glb";       ///< receiver glTF
-  std::filesystem::path tanker_model = "scenes/kc46.glb";        ///< tanker glTF
-  std::filesystem::path board_model = "scenes/calib_board.glb";  ///< calibration board glTF (calib job)
-  std::filesystem::path flight_path = "flightpaths/conops.csv";  ///< flight path (render job)
-  int msaa = 16;                                                 ///< 1, 4, 8, 16 or 32 samples per pixel
-  float anisotropy = 1.0f;                                       ///< texture anisotropic filtering (1 = trilinear)
+  std::filesystem::path output;                                            ///< dataset folder (created)
+  std::filesystem::path rig = DataFile("scenes/rig.json");                 ///< camera rig
+  std::filesystem::path receiver_model = DataFile("scenes/c12.glb");       ///< receiver glTF
+  std::filesystem::path tanker_model = DataFile("scenes/kc46.glb");        ///< tanker glTF
+  std::filesystem::path board_model = DataFile("scenes/calib_board.glb");  ///< calibration board glTF (calib job)
+  std::filesystem::path flight_path = DataFile("flightpaths/conops.csv");  ///< flight path (render job)
+  int msaa = 16;                                                           ///< 1, 4, 8, 16 or 32 samples per pixel
+  float anisotropy = 1.0f;   ///< texture anisotropic filtering (1 = trilinear)
   bool depth = false;        ///< also write left-camera depth EXR, object ids and receiver silhouette (render job)
   bool depth_right = false;  ///< the same for the right camera (implies `depth`)
   std::vector<double> far_boards_m;  ///< calib job: the twelve board tilts again at each distance [m]
@@ -30,7 +31,8 @@ struct RenderJobOptions {
   bool progress = true;              ///< progress line on stderr
 
   /// Throws aar::Error naming the option (its command-line flag) when a value
-  /// is out of range; the jobs call it before reading any input.
+  /// is out of range (MSAA level, anisotropy outside [1, 16] or NaN); the jobs
+  /// call it before reading any input. Input defaults come from data_path.h.
   void Check() const;
 };
 

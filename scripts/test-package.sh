@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Builds the Debian package from build/ (cpack -G DEB), installs it, renders
+# two frames and analyzes nothing else from /tmp (outside the source tree, so
+# the tools must find their data under /usr/share/aar), then removes it again.
+# Usage: bash scripts/test-package.sh   (as root, or with sudo; after scripts/build.sh)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+rm -f build/aar-stereo_*.deb
+(cd build && cpack -G DEB >/dev/null)
+deb=$(ls "$PWD"/build/aar-stereo_*.deb)
+echo "test-package: built $(basename "$deb")"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get install -y -q --no-install-recommends "$deb" >/dev/null
+trap '$SUDO dpkg --purge aar-stereo >/dev/null' EXIT
+
+work=$(mktemp -d /tmp/aar-package-test.XXXXXX)
+cd "$work"
+/usr/bin/aar-render --version
+/usr/bin/aar-analyze --version
+/usr/bin/aar-render render "$work/two" --frames 600:602 --msaa 1 --no-progress
+test -f "$work/two/frames/000601_left.png"
+test -f "$work/two/frames/000600.json"
+/usr/bin/aar-analyze reference --model full --points 1000 --out "$work/full.ply" >/dev/null
+cd /
+rm -rf "$work"
+echo "test-package: installed package renders from /tmp"

@@ -1,0 +1,121 @@
+// Resuming into an existing dataset: a refused resume (other flight path, rig
+// or receiver) changes no file of the dataset; a dataset without manifest is
+// refused; leftovers of interrupted writes are removed; two renders with
+// different settings started together: exactly one is accepted.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <map>
+#include <string>
+
+#include "../test_support.h"
+#include "aar/dataset.h"
+#include "aar/file_io.h"
+
+namespace aar {
+namespace {
+
+namespace fs = std::filesystem;
+using test::RunCommand;
+using test::SourcePath;
+using test::TempDir;
+
+struct Inputs {
+  std::string rig = SourcePath("scenes/rig.json").string();
+  std::string receiver = SourcePath("scenes/c12.glb").string();
+  std::string flight_path = SourcePath("flightpaths/conops.csv").string();
+  std::string extra;
+};
+
+std::string RenderCommand(const fs::path& out, const Inputs& in) {
+  return "env -u SLURM_ARRAY_TASK_ID -u SLURM_ARRAY_TASK_COUNT " + test::BinaryPath("renderer/aar-render").string() +
+         " render " + out.string() + " --no-progress --frames 600:601 --msaa 1 --rig " + in.rig + " --receiver " +
+         in.receiver + " --tanker " + SourcePath("scenes/kc46.glb").string() + " --flight-path " + in.flight_path +
+         " " + in.extra;
+}
+
+// Every file of the dataset (relative path -> content).
+std::map<std::string, std::string> Snapshot(const fs::path& dataset) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dataset)) {
+    if (entry.is_regular_file()) files[fs::relative(entry.path(), dataset).string()] = ReadFileBytes(entry.path());
+  }
+  return files;
+}
+
+// One rendered frame, shared by the tests of this file (rendered once per process).
+class RenderResume : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dataset_ = dir_ / "dataset";
+    const test::CommandResult r = RunCommand(RenderCommand(dataset_, Inputs{}));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  TempDir dir_;
+  fs::path dataset_;
+};
+
+TEST_F(RenderResume, RefusedResumeChangesNoFile) {
+  std::string csv = ReadFileBytes(SourcePath("flightpaths/conops.csv"));
+  csv.replace(csv.rfind('\n', csv.size() - 2) + 1, 1, "9");  // the last sample's time changes
+  WriteFileAtomic(dir_ / "other.csv", csv);
+  std::string rig = ReadFileBytes(SourcePath("scenes/rig.json"));
+  rig.replace(rig.find("\"near_m\": 0.5"), 13, "\"near_m\": 0.6");
+  WriteFileAtomic(dir_ / "other-rig.json", rig);
+  Inputs other_path, other_rig, other_receiver;
+  other_path.flight_path = (dir_ / "other.csv").string();
+  other_rig.rig = (dir_ / "other-rig.json").string();
+  other_receiver.receiver = SourcePath("scenes/kc46.glb").string();
+
+  const auto before = Snapshot(dataset_);
+  for (const auto& [inputs, key] : {std::pair{other_path, "inputs.flight_path.sha256"},
+                                    {other_rig, "inputs.rig.sha256"},
+                                    {other_receiver, "inputs.receiver_model.sha256"}}) {
+    SCOPED_TRACE(key);
+    const test::CommandResult r = RunCommand(RenderCommand(dataset_, inputs));
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find(std::string("made with other settings (") + key), std::string::npos) << r.output;
+    EXPECT_EQ(Snapshot(dataset_), before) << "a refused resume changed the dataset";
+  }
+}
+
+TEST_F(RenderResume, DatasetWithoutManifestIsRefused) {
+  fs::remove(dataset_ / kManifestName);
+  const auto before = Snapshot(dataset_);
+  const test::CommandResult r = RunCommand(RenderCommand(dataset_, Inputs{}));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("manifest.json: missing, but"), std::string::npos) << r.output;
+  EXPECT_EQ(Snapshot(dataset_), before);
+}
+
+TEST_F(RenderResume, ResumeRemovesTemporariesOfInterruptedWrites) {
+  WriteFileAtomic(dataset_ / "frames" / ".tmp4242.000600_left.png", "half a PNG");
+  WriteFileAtomic(dataset_ / ".tmp4242.manifest.json", "{");
+  const test::CommandResult r = RunCommand(RenderCommand(dataset_, Inputs{}));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("0 pairs rendered, 1 already complete"), std::string::npos) << r.output;
+  for (const auto& [name, content] : Snapshot(dataset_)) {
+    EXPECT_EQ(fs::path(name).filename().string().rfind(".tmp", 0), std::string::npos) << name << " left behind";
+  }
+}
+
+// Both start before either has written its manifest; whichever takes the
+// manifest lock first makes the dataset, the other is refused.
+TEST(RenderConcurrent, TwoRendersWithDifferentSettingsOneIsAccepted) {
+  TempDir dir;
+  const fs::path out = dir / "dataset";
+  Inputs x1, x4;
+  x4.extra = "--msaa 4";
+  const std::string both = "(" + RenderCommand(out, x1) + " > " + (dir / "a.log").string() + " 2>&1; echo $? > " +
+                           (dir / "a.rc").string() + ") & (" + RenderCommand(out, x4) + " > " +
+                           (dir / "b.log").string() + " 2>&1; echo $? > " + (dir / "b.rc").string() + ") & wait";
+  ASSERT_EQ(RunCommand(both).exit_code, 0);
+  const std::string a = ReadFileBytes(dir / "a.rc"), b = ReadFileBytes(dir / "b.rc");
+  const std::string logs = ReadFileBytes(dir / "a.log") + ReadFileBytes(dir / "b.log");
+  EXPECT_TRUE((a == "0\n" && b == "1\n") || (a == "1\n" && b == "0\n")) << a << b << logs;
+  EXPECT_NE(logs.find("made with other settings (frames.msaa"), std::string::npos) << logs;
+}
+
+}  // namespace
+}  // namespace aar
