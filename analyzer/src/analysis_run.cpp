@@ -274,7 +274,6 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
   }
   const FrameAnalyzer analyzer(calibration, rig.left.tanker_from_camera, reference, options.frame, &full_surface);
 
-  const std::vector<size_t> selected = options.selection.Select(manifest.frame_count);
   for (size_t index : options.dump_frames) {
     if (!std::binary_search(selected.begin(), selected.end(), index)) {
       throw Error("--dump-frames " + std::to_string(index) + ": not among the frames analyzed (" +
