@@ -57,6 +57,15 @@ ExportSource ReadExportSource(const ExportOptions& options) {
   return source;
 }
 
+StereoCalibration ReadIdealCalibration(const ExportSource& source) {
+  const std::filesystem::path yaml = source.dataset / kIdealCalibrationName;
+  if (const auto it = source.manifest.files.find(kIdealCalibrationName);
+      it == source.manifest.files.end() || !std::filesystem::is_regular_file(yaml) || Sha256File(yaml) != it->second) {
+    throw Error(yaml.string() + ": missing, or its SHA-256 differs from manifest.json's");
+  }
+  return ReadCalibration(yaml);
+}
+
 std::string ReadVerifiedFile(const ExportSource& source, const FileRef& ref) {
   const std::filesystem::path path = source.dataset / ref.path;
   if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": missing");

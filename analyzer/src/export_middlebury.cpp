@@ -58,12 +58,7 @@ cv::Mat DisparityFromDepth(const cv::Mat& depth_m, double focal_times_baseline_p
 
 ExportResult ExportMiddlebury(const ExportOptions& options) {
   const ExportSource source = ReadExportSource(options);
-  const std::filesystem::path yaml = options.dataset / kIdealCalibrationName;
-  if (const auto it = source.manifest.files.find(kIdealCalibrationName);
-      it == source.manifest.files.end() || !std::filesystem::is_regular_file(yaml) || Sha256File(yaml) != it->second) {
-    throw Error(yaml.string() + ": missing, or its SHA-256 differs from manifest.json's");
-  }
-  const StereoCalibration calibration = ReadCalibration(yaml);
+  const StereoCalibration calibration = ReadIdealCalibration(source);
   cv::Mat r1, r2, p1, p2;
   calibration.R1.convertTo(r1, CV_64F);
   calibration.R2.convertTo(r2, CV_64F);
@@ -71,7 +66,8 @@ ExportResult ExportMiddlebury(const ExportOptions& options) {
   calibration.P2.convertTo(p2, CV_64F);
   const cv::Mat identity = cv::Mat::eye(3, 3, CV_64F);
   if (cv::norm(r1 - identity) > 1e-9 || cv::norm(r2 - identity) > 1e-9) {
-    throw Error(yaml.string() + ": the images are not rectified (R1, R2 are not the identity)");
+    throw Error((options.dataset / kIdealCalibrationName).string() +
+                ": the images are not rectified (R1, R2 are not the identity)");
   }
   const double f = p1.at<double>(0, 0);
   const double baseline_m = -p2.at<double>(0, 3) / p2.at<double>(0, 0);

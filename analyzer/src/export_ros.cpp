@@ -31,12 +31,7 @@ std::string CameraInfoYaml(const StereoCalibration& calibration, const std::stri
 
 ExportResult ExportRos(const ExportOptions& options) {
   const ExportSource source = ReadExportSource(options);
-  const std::filesystem::path yaml = options.dataset / kIdealCalibrationName;
-  if (const auto it = source.manifest.files.find(kIdealCalibrationName);
-      it == source.manifest.files.end() || !std::filesystem::is_regular_file(yaml) || Sha256File(yaml) != it->second) {
-    throw Error(yaml.string() + ": missing, or its SHA-256 differs from manifest.json's");
-  }
-  const StereoCalibration calibration = ReadCalibration(yaml);
+  const StereoCalibration calibration = ReadIdealCalibration(source);
   ExportResult result;
   result.frames = source.frames.size();
   for (const char* camera : {"left", "right"}) {

@@ -13,6 +13,7 @@
 
 #include "aar/dataset.h"
 #include "aar/frame_selection.h"
+#include "aar/stereo_calibration.h"
 
 namespace aar {
 
@@ -60,6 +61,10 @@ ExportSource ReadExportSource(const ExportOptions& options);
 /// A file of a frame, read and checked against the sidecar's (and the
 /// manifest's) SHA-256; throws aar::Error naming the file otherwise.
 std::string ReadVerifiedFile(const ExportSource& source, const FileRef& ref);
+
+/// The dataset's calibration_ideal.yaml, checked against the manifest's
+/// SHA-256; throws aar::Error naming it when missing or changed.
+StereoCalibration ReadIdealCalibration(const ExportSource& source);
 
 /// The sidecar's file `role` (e.g. "left_depth"); throws aar::Error naming
 /// the sidecar and `need` (what to render, e.g. "--depth") when it is absent.
