@@ -78,7 +78,9 @@ TEST(CalibPoses, FarDistancesRepeatTheTwelveTiltsThere) {
     // Same tilt as the near set; the board centre at the requested distance.
     EXPECT_TRUE(left_from_board.linear().isApprox(
         (rig.left.tanker_from_camera.inverse() * IsometryFromPose(near[i % 12])).linear(), 1e-12));
-    if (i >= 12) EXPECT_NEAR((left_from_board * centre_in_board).z(), i < 24 ? 30.0 : 45.0, 1e-9);
+    if (i >= 12) {
+      EXPECT_NEAR((left_from_board * centre_in_board).z(), i < 24 ? 30.0 : 45.0, 1e-9);
+    }
   }
   options.far_distances_m = {5.0};  // nearer than the near set
   EXPECT_THROW(CalibrationBoardPoses(rig, options), Error);
