@@ -48,7 +48,7 @@ std::vector<Pose> CalibrationBoardPoses(const StereoRig& rig, const CalibPoseOpt
     const Eigen::Matrix3d left_from_board_rotation =
         RotationFromRollPitchYaw(tilt.about_x_deg, tilt.about_y_deg, tilt.about_z_deg);
     bool placed = false;
-    for (double distance = first_m; distance < last_m && !placed; distance += 0.25) {
+    for (double distance = first_m; distance <= last_m && !placed; distance += 0.25) {
       Eigen::Isometry3d left_from_board = Eigen::Isometry3d::Identity();
       left_from_board.linear() = left_from_board_rotation;
       left_from_board.translation() =
@@ -67,9 +67,9 @@ std::vector<Pose> CalibrationBoardPoses(const StereoRig& rig, const CalibPoseOpt
     }
     if (!placed) throw Error("calibration board does not fit both views for a tilt; check the rig");
   };
-  for (const Tilt& tilt : kTilts) place(tilt, options.min_distance_m, options.min_distance_m + 40.0);
+  for (const Tilt& tilt : kTilts) place(tilt, options.min_distance_m, options.min_distance_m + 39.75);
   for (const double far_m : options.far_distances_m) {
-    for (const Tilt& tilt : kTilts) place(tilt, far_m, far_m + 0.125);
+    for (const Tilt& tilt : kTilts) place(tilt, far_m, far_m);  // that distance only
   }
   return poses;
 }
