@@ -128,6 +128,9 @@ void ConopsOptions::Check() const {
   CheckSinusoids(wander_z, "wander_z");
   if (!(lateral_zero_range_m < start_range_m))
     throw Error("conops options: lateral_zero_range_m must be below start_range_m");
+  if (!(level_range_m >= 0.0) || !(level_range_m < start_range_m))
+    throw Error("conops options: level_range_m must be >= 0 and below start_range_m");
+  if (!(level_blend_m > 0.0)) throw Error("conops options: level_blend_m must be positive");
   if (!(contact_standoff_m >= 0.0)) throw Error("conops options: contact_standoff_m must be >= 0");
   if (!(time_step_s > 0.0)) throw Error("conops options: time_step_s must be positive");
   if (legs.empty()) throw Error("conops options: no legs");
@@ -153,13 +156,20 @@ std::vector<FlightSample> GenerateConops(const StereoRig& rig, const ConopsOptio
   for (size_t i = 0; i < count; ++i) {
     const double t = static_cast<double>(i) * o.time_step_s;
     const double r = NominalRange(segments, t);
-    const double depression_deg =
-        contact_depression_deg + (o.far_depression_deg - contact_depression_deg) *
-                                     SmoothStep((r - contact_range) / (o.start_range_m - contact_range));
     const double lateral_m =
         o.far_lateral_offset_m * SmoothStep((r - o.lateral_zero_range_m) / (o.start_range_m - o.lateral_zero_range_m));
     const double dy = to_contact.y() + lateral_m;
     const double rho = std::sqrt(std::max(r * r - dy * dy, 0.0));
+    double depression_deg = 0.0;
+    if (o.level_range_m > 0.0) {
+      // Level at the contact height: rho sin(depression) = the contact's drop below the camera.
+      const double level_deg = std::asin(std::clamp(-to_contact.z() / rho, -1.0, 1.0)) * kRadToDeg;
+      depression_deg =
+          level_deg + (o.far_depression_deg - level_deg) * SmoothStep((r - o.level_range_m) / o.level_blend_m);
+    } else {
+      depression_deg = contact_depression_deg + (o.far_depression_deg - contact_depression_deg) *
+                                                    SmoothStep((r - contact_range) / (o.start_range_m - contact_range));
+    }
     const double d = depression_deg * kDegToRad;
     FlightSample s;
     s.time_s = t;
@@ -172,6 +182,14 @@ std::vector<FlightSample> GenerateConops(const StereoRig& rig, const ConopsOptio
     samples.push_back(RoundToCsvPrecision(s));
   }
   return samples;
+}
+
+ConopsOptions LevelConopsOptions() {
+  ConopsOptions o;
+  o.far_depression_deg = 32.0;
+  o.level_range_m = 37.0;
+  o.level_blend_m = 8.0;
+  return o;
 }
 
 }  // namespace aar::flightpaths

@@ -67,6 +67,15 @@ struct ConopsOptions {
   /// at start_range_m [m]; smoothstep in range down to 0 at lateral_zero_range_m.
   double far_lateral_offset_m = -3.0;
   double lateral_zero_range_m = 45.0;  ///< range below which the lateral offset is 0 [m]
+  /// Level final approach (conops-level.csv, issue 9): when positive, the
+  /// receiver flies level at the contact position's height from this range in
+  /// (depression asin(height / horizontal distance)); from level_range_m +
+  /// level_blend_m out it keeps far_depression_deg, and in between the
+  /// depression blends (smoothstep in range) from one to the other, so the
+  /// vertical speed is continuous. 0 (the default, conops.csv): the depression
+  /// blends to the contact position's own, as described at far_depression_deg [m].
+  double level_range_m = 0.0;
+  double level_blend_m = 15.0;  ///< range over which the level approach is joined [m]
   /// Attitude: each angle is a sum of sinusoids in time [deg]. The default
   /// amplitudes sum to at most 2.8 deg.
   std::vector<Sinusoid> roll = {{2.0, 47.0, 0.4}, {0.8, 13.0, 1.9}};
@@ -87,5 +96,12 @@ struct ConopsOptions {
 /// rounded to the CSV precision (time 1 ms, metres and degrees 1e-4), so
 /// FormatFlightPath/ReadFlightPath round-trips them exactly.
 std::vector<FlightSample> GenerateConops(const StereoRig& rig, const ConopsOptions& options = {});
+
+/// The options of conops-level.csv (for scenes/rig-thesis.json, cameras 41 deg
+/// down): the CONOPS approach 32 deg below the camera's horizontal (9 deg above
+/// the optical axis) down to 45 m, joining a level path at the contact height
+/// at 37 m: the T-tail's top leaves the top of the frame at about 39 m and is
+/// back in view at about 36.4 m (flightpaths/README.md).
+ConopsOptions LevelConopsOptions();
 
 }  // namespace aar::flightpaths

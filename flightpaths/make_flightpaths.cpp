@@ -3,12 +3,14 @@
 // prints per-region sample counts, holds and receiver visibility.
 //
 //   aar-make-flightpaths --rig scenes/rig.json --out flightpaths/
+//   aar-make-flightpaths --rig scenes/rig-thesis.json --out flightpaths/ --paths conops-level
 
 #include <CLI/CLI.hpp>
 #include <exception>
 #include <filesystem>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "aar/error.h"
 #include "aar/file_io.h"
@@ -22,19 +24,30 @@ int main(int argc, char** argv) {
   std::string out_dir;
   app.add_option("--rig", rig_path, "rig file (scenes/rig.json)")->required();
   app.add_option("--out", out_dir, "output folder (flightpaths/)")->required();
+  std::vector<std::string> paths = {"conops", "characterization"};
+  app.add_option("--paths", paths,
+                 "paths to write: conops, characterization (with scenes/rig.json), conops-level (with "
+                 "scenes/rig-thesis.json)")
+      ->check(CLI::IsMember({"conops", "characterization", "conops-level"}));
   CLI11_PARSE(app, argc, argv);
   try {
     namespace fp = aar::flightpaths;
     const aar::StereoRig rig = aar::LoadRig(rig_path);
     const std::filesystem::path out(out_dir);
     aar::EnsureWritableDirectory(out);
-    const auto conops = fp::GenerateConops(rig);
-    const auto characterization = fp::GenerateCharacterization(rig);
-    aar::WriteFileAtomic(out / "conops.csv", aar::FormatFlightPath(conops));
-    aar::WriteFileAtomic(out / "characterization.csv", aar::FormatFlightPath(characterization));
-    std::cout << "wrote " << (out / "conops.csv").string() << "\n" << fp::DescribeConops(rig, conops);
-    std::cout << "wrote " << (out / "characterization.csv").string() << "\n"
-              << fp::DescribeCharacterization(rig, characterization);
+    for (const std::string& name : paths) {
+      const std::filesystem::path file = out / (name + ".csv");
+      if (name == "characterization") {
+        const auto characterization = fp::GenerateCharacterization(rig);
+        aar::WriteFileAtomic(file, aar::FormatFlightPath(characterization));
+        std::cout << "wrote " << file.string() << "\n" << fp::DescribeCharacterization(rig, characterization);
+      } else {
+        const auto conops =
+            name == "conops-level" ? fp::GenerateConops(rig, fp::LevelConopsOptions()) : fp::GenerateConops(rig);
+        aar::WriteFileAtomic(file, aar::FormatFlightPath(conops));
+        std::cout << "wrote " << file.string() << "\n" << fp::DescribeConops(rig, conops);
+      }
+    }
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "aar-make-flightpaths: " << e.what() << "\n";

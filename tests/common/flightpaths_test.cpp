@@ -179,6 +179,22 @@ TEST(FlightPaths, CommittedCsvFilesMatchGenerator) {
   }
 }
 
+// conops-level.csv is generated for the thesis rig (issue 9), not for rig.json.
+TEST(FlightPaths, CommittedLevelCsvMatchesGenerator) {
+  const StereoRig thesis = LoadRig(kSourceDir / "scenes" / "rig-thesis.json");
+  const std::filesystem::path path = kSourceDir / "flightpaths" / "conops-level.csv";
+  ASSERT_TRUE(std::filesystem::exists(path)) << path << " missing: run aar-make-flightpaths";
+  EXPECT_EQ(ReadFileBytes(path), FormatFlightPath(fp::GenerateConops(thesis, fp::LevelConopsOptions())))
+      << path << " is stale: run aar-make-flightpaths --rig scenes/rig-thesis.json --out flightpaths/ --paths "
+      << "conops-level";
+  // Level at the contact height from level_range_m in (within the wander).
+  for (const FlightSample& s : ReadFlightPath(path)) {
+    if (fp::RangeFromLeftCamera(thesis, s.tanker_from_receiver) < fp::LevelConopsOptions().level_range_m) {
+      EXPECT_NEAR(s.tanker_from_receiver.translation_m.z(), thesis.contact_position_m.z(), 0.01) << s.time_s;
+    }
+  }
+}
+
 TEST(FlightPaths, RejectsInconsistentOptions) {
   fp::CharacterizationOptions characterization;
   characterization.count = 557;

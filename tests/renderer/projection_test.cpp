@@ -2,8 +2,16 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
+#include <vector>
+
 #include "aar/error.h"
+#include "aar/flight_path.h"
+#include "aar/pose.h"
 #include "aar/renderer/calib_poses.h"
+#include "aar/renderer/scene_model.h"
+#include "aar/rig.h"
 
 namespace aar {
 namespace {
@@ -84,6 +92,41 @@ TEST(CalibPoses, FarDistancesRepeatTheTwelveTiltsThere) {
   }
   options.far_distances_m = {5.0};  // nearer than the near set
   EXPECT_THROW(CalibrationBoardPoses(rig, options), Error);
+}
+
+}  // namespace
+}  // namespace aar
+
+namespace aar {
+namespace {
+
+// Issue 9, item 1: on scenes/rig-thesis.json (cameras 41 deg down) the level
+// final approach flightpaths/conops-level.csv takes the C-12's T-tail out of
+// the top of the frame in region B and brings it back in region C. The same
+// InViewFraction the renderer writes into the sidecars, on the receiver model.
+TEST(Projection, ThesisRigLevelPathLosesTheTailBetween38And45Metres) {
+  const std::filesystem::path source = AAR_SOURCE_DIR;
+  const StereoRig rig = LoadRig(source / "scenes" / "rig-thesis.json");
+  const std::vector<FlightSample> path = ReadFlightPath(source / "flightpaths" / "conops-level.csv");
+  const std::vector<Eigen::Vector3d> points = LoadSceneModel(source / "scenes" / "c12.glb").AllPositions();
+  double smallest_38_45 = 1.0, smallest_beyond_45 = 1.0, smallest_below_36 = 1.0;
+  for (const FlightSample& s : path) {
+    const Eigen::Isometry3d tanker_from_receiver = IsometryFromPose(s.tanker_from_receiver);
+    const double range = (tanker_from_receiver.translation() - rig.left.tanker_from_camera.translation()).norm();
+    const double in_view = std::min(InViewFraction(points, rig.left, tanker_from_receiver),
+                                    InViewFraction(points, rig.right, tanker_from_receiver));
+    if (range >= 38.0 && range <= 45.0) {
+      smallest_38_45 = std::min(smallest_38_45, in_view);
+    } else if (range > 45.0) {
+      smallest_beyond_45 = std::min(smallest_beyond_45, in_view);
+    } else if (range < 36.0) {
+      smallest_below_36 = std::min(smallest_below_36, in_view);
+    }
+  }
+  EXPECT_LT(smallest_38_45, 0.95);            // the tail (and more) leaves the frame
+  EXPECT_GT(smallest_38_45, 0.5);             // but most of the receiver stays in view
+  EXPECT_DOUBLE_EQ(smallest_beyond_45, 1.0);  // fully in view on the way in
+  EXPECT_DOUBLE_EQ(smallest_below_36, 1.0);   // and back in view in region C
 }
 
 }  // namespace

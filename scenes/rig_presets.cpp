@@ -1,0 +1,97 @@
+#include "rig_presets.h"
+
+#include <charconv>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+
+namespace aar::scenes {
+namespace {
+
+/// Shortest text that reads back as the same double, with ".0" on integers.
+std::string Num(double value) {
+  char buffer[64];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  if (ec != std::errc()) throw std::runtime_error("rig: cannot format a number");
+  std::string s(buffer, end);
+  if (s.find_first_of(".eE") == std::string::npos) s += ".0";
+  return s;
+}
+
+/// cos and sin of an angle in degrees, correctly rounded for the angles used
+/// here: evaluated in long double, so that 30 deg gives exactly 0.5 and the
+/// double nearest sqrt(3)/2 (std::cos(pi / 6) in double is one ulp off).
+void CosSinDeg(double deg, double* c, double* s) {
+  const long double rad = static_cast<long double>(deg) * std::numbers::pi_v<long double> / 180.0L;
+  *c = static_cast<double>(std::cos(rad));
+  *s = static_cast<double>(std::sin(rad));
+}
+
+std::string Camera(const RigPreset& r, double y_m) {
+  double c = 0.0, s = 0.0;
+  CosSinDeg(r.pitch_down_deg, &c, &s);
+  // Columns: camera x (image right) = tanker +y; camera z (optical axis) =
+  // (-cos, 0, -sin); camera y (image down) = z cross x = (sin, 0, -cos).
+  std::ostringstream o;
+  o << "      \"fx_px\": " << Num(r.f_px) << ", \"fy_px\": " << Num(r.f_px) << ", \"cx_px\": " << Num(r.cx_px)
+    << ", \"cy_px\": " << Num(r.cy_px) << ",\n"
+    << "      \"tanker_from_camera\": {\n"
+    << "        \"translation_m\": [" << Num(r.centre_m[0]) << ", " << Num(r.centre_m[1] + y_m) << ", "
+    << Num(r.centre_m[2]) << "],\n"
+    << "        \"rotation\": [[0.0, " << Num(s) << ", " << Num(-c) << "],\n"
+    << "                     [1.0, 0.0, 0.0],\n"
+    << "                     [0.0, " << Num(-c) << ", " << Num(-s) << "]]\n"
+    << "      }\n";
+  return o.str();
+}
+
+}  // namespace
+
+RigPreset DefaultRig() {
+  RigPreset r;
+  r.description =
+      "Stereo pair under the KC-46-class tanker's aft fuselage, looking aft and 30 deg down. Pinhole cameras, no "
+      "distortion. Positions in the tanker body frame (x forward, y left, z up, metres). Rotations are "
+      "tanker_from_camera: columns are the camera's x (right), y (down), z (optical axis) expressed in the tanker "
+      "frame.";
+  return r;
+}
+
+RigPreset ThesisRig() {
+  RigPreset r = DefaultRig();
+  r.pitch_down_deg = 41.0;
+  r.description =
+      "Thesis geometry (issue 9): the cameras of scenes/rig.json pitched 41 deg down instead of 30, the same contact "
+      "position (11 deg above the optical axis), so that on a level final approach the receiver's T-tail leaves the "
+      "top of the frame. Pinhole cameras, no distortion. Positions in the tanker body frame (x forward, y left, z up, "
+      "metres). Rotations are tanker_from_camera: columns are the camera's x (right), y (down), z (optical axis) "
+      "expressed in the tanker frame.";
+  return r;
+}
+
+std::string FormatRig(const RigPreset& r) {
+  double c = 0.0, s = 0.0;
+  CosSinDeg(r.contact_depression_deg, &c, &s);
+  const double contact_x = r.centre_m[0] - r.contact_range_m * c;
+  const double contact_z = r.centre_m[2] - r.contact_range_m * s;
+  std::ostringstream o;
+  o << "{\n"
+    << "  \"schema\": \"aar-rig/1\",\n"
+    << "  \"description\": \"" << r.description << "\",\n"
+    << "  \"image_width\": " << r.image_width << ",\n"
+    << "  \"image_height\": " << r.image_height << ",\n"
+    << "  \"cameras\": {\n"
+    << "    \"left\": {\n"
+    << Camera(r, -r.half_baseline_m) << "    },\n"
+    << "    \"right\": {\n"
+    << Camera(r, r.half_baseline_m) << "    }\n"
+    << "  },\n"
+    << "  \"near_m\": " << Num(r.near_m) << ",\n"
+    << "  \"contact_position_m\": [" << Num(contact_x) << ", " << Num(r.centre_m[1]) << ", " << Num(contact_z) << "]\n"
+    << "}\n";
+  return o.str();
+}
+
+}  // namespace aar::scenes

@@ -1,0 +1,40 @@
+#pragma once
+// The committed stereo rigs (scenes/rig.json, scenes/rig-thesis.json) as
+// presets, and their aar-rig/1 text. Written by aar-make-rig; a pure function
+// of the preset, so the files are byte-identical from run to run.
+
+#include <array>
+#include <string>
+
+namespace aar::scenes {
+
+/// A stereo pair of identical pinhole cameras, side by side along the tanker's
+/// y axis, looking aft and pitched down, plus the receiver contact position.
+struct RigPreset {
+  std::string description;
+  int image_width = 1024;
+  int image_height = 768;
+  double f_px = 900.0;                                  ///< fx = fy [px]
+  double cx_px = 511.5;                                 ///< principal point [px]
+  double cy_px = 383.5;                                 ///< principal point [px]
+  std::array<double, 3> centre_m = {-20.0, 0.0, -2.9};  ///< midpoint of the two camera centres (tanker frame) [m]
+  double half_baseline_m = 0.25;                        ///< each camera sits this far from the midpoint along y [m]
+  double pitch_down_deg = 30.0;                         ///< optical axis below the aft horizontal [deg]
+  /// Contact position: contact_range_m from the midpoint, contact_depression_deg
+  /// below the aft horizontal, in the tanker's x-z plane.
+  double contact_range_m = 32.0;
+  double contact_depression_deg = 30.0;
+  double near_m = 0.5;
+};
+
+/// scenes/rig.json: cameras 30 deg down, contact position on the optical axis at 32 m.
+RigPreset DefaultRig();
+/// scenes/rig-thesis.json: the same cameras pitched 41 deg down, the same
+/// contact position (now 11 deg above the optical axis), so that the receiver's
+/// T-tail leaves the top of the frame on a level final approach (issue 9, item 1).
+RigPreset ThesisRig();
+
+/// The aar-rig/1 JSON text of a preset (the committed files' layout).
+std::string FormatRig(const RigPreset& rig);
+
+}  // namespace aar::scenes
