@@ -52,9 +52,19 @@ struct NormalEquations {
     Eigen::Matrix<double, 6, 1> j;
     j.head<3>() = (s - centre).cross(n);
     j.tail<3>() = n;
-    h.noalias() += w * j * j.transpose();
+    // The upper triangle only (h is symmetric; Solve mirrors it), each term
+    // (w j_a) j_b as the full outer product would form it.
+    const Eigen::Matrix<double, 6, 1> wj = w * j;
+    for (int b = 0; b < 6; ++b) {
+      for (int a = 0; a <= b; ++a) h(a, b) += wj(a) * j(b);
+    }
     g.noalias() += w * r * j;
     sum_squared += r * r;
+  }
+
+  Eigen::Matrix<double, 6, 1> Solve() {
+    h.triangularView<Eigen::StrictlyLower>() = h.transpose();
+    return -h.ldlt().solve(g);
   }
 };
 
@@ -198,7 +208,7 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
     result.fitness = static_cast<double>(inliers) / static_cast<double>(sensed.size());
     if (result.converged || k == o.max_iterations || inliers < 6) break;
 
-    const Eigen::Matrix<double, 6, 1> step = -equations.h.ldlt().solve(equations.g);
+    const Eigen::Matrix<double, 6, 1> step = equations.Solve();
     if (!step.allFinite()) break;
     const Eigen::Vector3d w = step.head<3>();
     const Eigen::Vector3d v = step.tail<3>();
