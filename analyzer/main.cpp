@@ -89,7 +89,8 @@ struct RunFlags {
     cmd->add_option("--frames", frames, "half-open range a:b of frame indices");
     cmd->add_option("--shard", shard, "analyze frames i with i % N == K (K/N); defaults to the Slurm array variables");
     cmd->add_option("--seed", seed,
-                    "ICP seed: centroid (thesis) or previous (the last estimates at constant velocity)");
+                    "ICP seed: centroid (thesis) or previous (the last estimate; from the centroid again after a "
+                    "failure or an attitude beyond 15 deg)");
     cmd->add_option("--registration", registration, "point_to_plane (default preset) or point_to_point (thesis)");
     cmd->add_option("--correspondence", correspondence,
                     "point-to-point pairing: model_to_sensed (thesis) or sensed_to_model");

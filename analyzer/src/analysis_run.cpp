@@ -35,6 +35,7 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
   const FrameAnalysisOptions& f = o.frame;
   nlohmann::json registration = {
       {"algorithm", ToString(f.registration)}, {"seed", ToString(f.seed)}, {"track_region", f.track_region}};
+  if (f.seed == IcpSeed::kPreviousFrame) registration["max_seed_attitude_deg"] = f.max_seed_attitude_deg;
   if (f.registration == Registration::kPointToPoint) {
     registration.update({{"max_iterations", f.icp.max_iterations},
                          {"correspondence", ToString(f.icp.correspondence)},

@@ -58,6 +58,16 @@ IcpSeed ParseIcpSeed(const std::string& text) {
   throw Error("--seed '" + text + "': expected centroid or previous");
 }
 
+std::optional<Pose> SeedFromHistory(const TrackHistory& history, const FrameAnalysisOptions& options) {
+  if (options.seed != IcpSeed::kPreviousFrame || !history.last) return std::nullopt;
+  const Pose& last = history.last->second;
+  const double limit = options.max_seed_attitude_deg;
+  if (!(std::abs(last.roll_deg) <= limit && std::abs(last.pitch_deg) <= limit && std::abs(last.yaw_deg) <= limit)) {
+    return std::nullopt;
+  }
+  return last;
+}
+
 std::string ToString(Registration registration) {
   return registration == Registration::kPointToPoint ? "point_to_point" : "point_to_plane";
 }
@@ -103,6 +113,9 @@ void FrameAnalysisOptions::Check() const {
   if (reprojection.keep_one_in == 0) throw Error("reprojection keep_one_in must be at least 1");
   if (!(max_icp_rmse_m > 0)) throw Error("max_icp_rmse_m must be positive");
   if (!(disparity_noise_px >= 0)) throw Error("disparity_noise_px must not be negative");
+  if (!(max_seed_attitude_deg >= 0.0 && max_seed_attitude_deg <= 180.0)) {
+    throw Error("max_seed_attitude_deg must be in [0, 180]");
+  }
 }
 
 FrameAnalyzer::FrameAnalyzer(const StereoCalibration& calibration, const Eigen::Isometry3d& tanker_from_left,
@@ -313,8 +326,7 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
         predicted->yaw_deg = b.yaw_deg + k * WrapDegrees(b.yaw_deg - a.yaw_deg);
       }
     }
-    const bool seed_from_track = options_.seed == IcpSeed::kPreviousFrame && predicted.has_value();
-    const std::optional<Pose> seed = seed_from_track ? predicted : std::nullopt;
+    const std::optional<Pose> seed = SeedFromHistory(history, options_);
     Registered icp{};
     bool measured = false;
     StageTimes lost_times;  // spent on a region the receiver was not (all) in

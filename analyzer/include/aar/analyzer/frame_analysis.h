@@ -25,9 +25,10 @@
 namespace aar {
 
 enum class IcpSeed {
-  kCentroid,       ///< zero attitude at the sensed cloud's centroid (thesis Experiment 1)
-  kPreviousFrame,  ///< the previous estimates, extrapolated at constant velocity (centroid for the first frame or after
-                   ///< a failure)
+  kCentroid,  ///< zero attitude at the sensed cloud's centroid (thesis Experiment 1)
+  /// The last frame's estimate (centroid for the first frame, after a
+  /// failure, or when that estimate's attitude exceeds max_seed_attitude_deg).
+  kPreviousFrame,
 };
 std::string ToString(IcpSeed seed);
 IcpSeed ParseIcpSeed(const std::string& text);
@@ -75,6 +76,13 @@ struct FrameAnalysisOptions {
   bool pair_sensed_with_full_surface = true;
   IcpOptions icp;  ///< for kPointToPoint (thesis 3.6: 30 iterations)
   IcpSeed seed = IcpSeed::kCentroid;
+  /// kPreviousFrame: a last estimate with |roll|, |pitch| or |yaw| beyond this
+  /// does not seed the next frame, which starts from the centroid again
+  /// [deg]. A receiver in formation behind the tanker stays within a few
+  /// degrees of its attitude (the CONOPS path: 2.8 deg at most); an estimate
+  /// beyond 15 deg is a registration gone wrong, and seeding from it would
+  /// carry the error on.
+  double max_seed_attitude_deg = 15.0;
   /// Tracking (once a frame is measured): rectify and match only the region
   /// where the receiver is predicted (constant velocity from the last two
   /// estimates; the model's box there, grown by track_margin_fraction of its
@@ -118,6 +126,14 @@ struct TrackHistory {
   std::optional<std::pair<double, Pose>> last;         ///< most recent measured frame
   std::optional<std::pair<double, Pose>> before_last;  ///< the one before it
 };
+
+/// The ICP seed for the next frame, nullopt for the centroid: with
+/// kPreviousFrame, the last estimate itself, not the constant-velocity
+/// prediction (extrapolating two noisy estimates doubles their noise; in
+/// region A, where the attitude is weakly observed, the extrapolated errors
+/// grew from frame to frame, docs/analysis.md step 9), unless its attitude
+/// exceeds max_seed_attitude_deg.
+std::optional<Pose> SeedFromHistory(const TrackHistory& history, const FrameAnalysisOptions& options);
 
 /// Analyzes frames of one dataset with one calibration and one reference model.
 class FrameAnalyzer {
