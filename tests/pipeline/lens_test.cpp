@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "aar/analyzer/analysis_run.h"
 #include "aar/dataset.h"
 #include "aar/file_io.h"
 #include "aar/rig.h"
