@@ -241,10 +241,17 @@ int RunCalibrate(int argc, char** argv) {
   aar::CalibrationOptions options;
   app.add_option("dataset", dataset, "dataset folder")->required();
   app.add_option("--out", out, "output folder (default: results/<dataset>-calibration)");
+  std::string distortion = aar::DistortionModelName(options.distortion);
+  app.add_option("--distortion", distortion,
+                 "lens model: auto (brown-conrady when the dataset's rig.json gives its cameras distortion, else "
+                 "pinhole), pinhole (k1..k3, p1, p2 fixed at 0), brown-conrady (estimate k1 k2 p1 p2, k3 fixed at "
+                 "0) or brown-conrady-k3 (estimate all five)")
+      ->capture_default_str();
   app.add_flag(
-      "--estimate-distortion", [&](int64_t) { options.fix_distortion = false; },
-      "also estimate k1 k2 p1 p2 k3 (the renderer has none)");
+      "--estimate-distortion", [&](int64_t) { distortion = "brown-conrady-k3"; },
+      "the same as --distortion brown-conrady-k3 (all five coefficients, OpenCV's default)");
   if (const auto code = Parse(app, argc, argv)) return *code;
+  options.distortion = aar::ParseDistortionModel(distortion);
   if (out.empty()) out = std::filesystem::path("results") / (DatasetName(dataset) + "-calibration");
   const aar::CalibrateOutput result = aar::CalibrateDataset(dataset, options);
   aar::EnsureWritableDirectory(out);

@@ -72,6 +72,9 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
     cmd.add_option("--far-boards", f.job.far_boards_m,
                    "also render the twelve board tilts at these distances along the optical axis [m], e.g. 30,45")
         ->delimiter(',');
+    cmd.add_flag("--corner-boards", f.job.corner_boards,
+                 "also render 8 boards pushed towards the image corners and edges (covers the periphery, where lens "
+                 "distortion is largest)");
   } else {
     cmd.add_option("--flight-path", f.job.flight_path,
                    "flight-path CSV (time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg)")

@@ -1,5 +1,6 @@
 // aar-make-rig: writes the committed stereo rigs scenes/rig.json (cameras
-// 30 deg down) and scenes/rig-thesis.json (41 deg down, issue 9) from their
+// 30 deg down), scenes/rig-thesis.json (41 deg down, issue 9) and
+// scenes/rig-distorted.json (rig.json with lens distortion) from their
 // presets (rig_presets.h), atomically.
 //
 //   aar-make-rig --out scenes/
@@ -15,7 +16,7 @@
 #include "rig_presets.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"Generate the committed stereo rigs rig.json and rig-thesis.json (deterministic)."};
+  CLI::App app{"Generate the committed stereo rigs rig.json, rig-thesis.json and rig-distorted.json (deterministic)."};
   std::string out_dir = "scenes";
   app.add_option("--out", out_dir, "output folder (scenes/)");
   CLI11_PARSE(app, argc, argv);
@@ -24,7 +25,8 @@ int main(int argc, char** argv) {
     const std::filesystem::path out(out_dir);
     aar::EnsureWritableDirectory(out);
     for (const auto& [name, preset] :
-         {std::pair{"rig.json", sc::DefaultRig()}, std::pair{"rig-thesis.json", sc::ThesisRig()}}) {
+         {std::pair{"rig.json", sc::DefaultRig()}, std::pair{"rig-thesis.json", sc::ThesisRig()},
+          std::pair{"rig-distorted.json", sc::DistortedRig()}}) {
       const std::filesystem::path path = out / name;
       aar::WriteFileAtomic(path, sc::FormatRig(preset));
       const aar::StereoRig rig = aar::LoadRig(path);  // the written file reads back as a rig

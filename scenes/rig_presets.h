@@ -1,6 +1,6 @@
 #pragma once
-// The committed stereo rigs (scenes/rig.json, scenes/rig-thesis.json) as
-// presets, and their aar-rig/1 text. Written by aar-make-rig; a pure function
+// The committed stereo rigs (scenes/rig.json, scenes/rig-thesis.json,
+// scenes/rig-distorted.json) as presets, and their aar-rig text. Written by aar-make-rig; a pure function
 // of the preset, so the files are byte-identical from run to run.
 
 #include <array>
@@ -8,8 +8,12 @@
 
 namespace aar::scenes {
 
-/// A stereo pair of identical pinhole cameras, side by side along the tanker's
-/// y axis, looking aft and pitched down, plus the receiver contact position.
+/// Brown-Conrady coefficients in OpenCV's order (k1, k2, p1, p2, k3).
+using LensCoefficients = std::array<double, 5>;
+
+/// A stereo pair of cameras with identical pinhole intrinsics (each with its
+/// own lens distortion, zero by default), side by side along the tanker's y
+/// axis, looking aft and pitched down, plus the receiver contact position.
 struct RigPreset {
   std::string description;
   int image_width = 1024;
@@ -25,6 +29,8 @@ struct RigPreset {
   double contact_range_m = 32.0;
   double contact_depression_deg = 30.0;
   double near_m = 0.5;
+  LensCoefficients left_distortion{};   ///< all zero: pinhole (written as aar-rig/1, no "distortion")
+  LensCoefficients right_distortion{};  ///< all zero: pinhole
 };
 
 /// scenes/rig.json: cameras 30 deg down, contact position on the optical axis at 32 m.
@@ -34,7 +40,12 @@ RigPreset DefaultRig();
 /// T-tail leaves the top of the frame on a level final approach (issue 9, item 1).
 RigPreset ThesisRig();
 
-/// The aar-rig/1 JSON text of a preset (the committed files' layout).
+/// scenes/rig-distorted.json (issue 9, item 3): scenes/rig.json's cameras
+/// with a realistic barrel distortion each (docs/scenes.md gives the reasoning).
+RigPreset DistortedRig();
+
+/// The JSON text of a preset (the committed files' layout): aar-rig/1, or
+/// aar-rig/2 with a "distortion" object per camera when either has any.
 std::string FormatRig(const RigPreset& rig);
 
 }  // namespace aar::scenes

@@ -23,6 +23,13 @@ cd "$work"
 /usr/bin/aar-render render "$work/two" --frames 600:602 --msaa 1 --no-progress
 test -f "$work/two/frames/000601_left.png"
 test -f "$work/two/frames/000600.json"
+# The thesis geometry and the distorted lens, from the installed data.
+/usr/bin/aar-render render "$work/thesis" --rig /usr/share/aar/scenes/rig-thesis.json \
+    --flight-path /usr/share/aar/flightpaths/conops-level.csv --frames 0:1 --msaa 1 --no-progress
+/usr/bin/aar-render render "$work/lens" --rig /usr/share/aar/scenes/rig-distorted.json --frames 600:601 --msaa 1 \
+    --no-progress
+test -f "$work/thesis/frames/000000_left.png"
+test -f "$work/lens/frames/000600_left.png"
 /usr/bin/aar-analyze reference --model full --points 1000 --out "$work/full.ply" >/dev/null
 cd /
 rm -rf "$work"

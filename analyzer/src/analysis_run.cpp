@@ -198,6 +198,13 @@ CalibrateOutput CalibrateDataset(const std::filesystem::path& dataset, const Cal
                 {"used_pairs", r.used_pairs},
                 {"pairs", pairs},
                 {"Q", MatJson(r.calibration.Q)}};
+  if (r.distortion_estimated) {
+    out.report["distortion"] = {
+        {"model", DistortionModelName(options.distortion == DistortionModel::kAuto ? DistortionModel::kBrownConrady
+                                                                                   : options.distortion)},
+        {"D1", MatJson(r.calibration.D1)},
+        {"D2", MatJson(r.calibration.D2)}};
+  }
   if (r.versus_ideal) {
     const IdealComparison& v = *r.versus_ideal;
     out.report["versus_ideal"] = {{"q_percent_error", MatJson(v.q_percent_error)},
@@ -208,6 +215,12 @@ CalibrateOutput CalibrateDataset(const std::filesystem::path& dataset, const Cal
                                   {"left_principal_point_error_px", v.left_principal_point_error_px},
                                   {"rotation_error_deg", v.rotation_error_deg},
                                   {"baseline_direction_error_deg", v.baseline_direction_error_deg}};
+    if (r.distortion_estimated) {
+      out.report["versus_ideal"]["D1_error"] = v.left_distortion_error;
+      out.report["versus_ideal"]["D2_error"] = v.right_distortion_error;
+    }
+    out.report["versus_ideal"]["left_ray_error_max_px"] = v.left_ray_error_max_px;
+    out.report["versus_ideal"]["right_ray_error_max_px"] = v.right_ray_error_max_px;
   }
   return out;
 }
@@ -314,6 +327,10 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
     calibration.M1.convertTo(m1, CV_64F);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) projection.left_camera_matrix(i, j) = m1.at<double>(i, j);
+    cv::Mat d1;
+    calibration.D1.convertTo(d1, CV_64F);
+    projection.left_distortion = {d1.at<double>(0, 0), d1.at<double>(0, 1), d1.at<double>(0, 2), d1.at<double>(0, 3),
+                                  d1.at<double>(0, 4)};
     projection.left_from_tanker = rig.left.tanker_from_camera.inverse();
     projection.model_points_in_receiver = reference.points_in_receiver;
   }

@@ -82,6 +82,26 @@ cv::Mat FirstFive(const cv::Mat& d) {
   return row;
 }
 
+/// IdealComparison::left_ray_error_max_px: every 4th pixel (and the last row
+/// and column) undistorted with both calibrations, the largest distance in
+/// the ideal's pixels.
+double RayErrorMaxPx(const cv::Mat& m, const cv::Mat& d, const cv::Mat& m_ideal, const cv::Mat& d_ideal,
+                     cv::Size size) {
+  std::vector<cv::Point2d> pixels;
+  for (int v = 0; v < size.height; v += 4) {
+    for (int u = 0; u < size.width; u += 4) pixels.emplace_back(u, v);
+    pixels.emplace_back(size.width - 1, v);
+  }
+  for (int u = 0; u < size.width; u += 4) pixels.emplace_back(u, size.height - 1);
+  std::vector<cv::Point2d> estimated, ideal;
+  const cv::TermCriteria precise(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-14);
+  cv::undistortPoints(pixels, estimated, m, d, cv::noArray(), m_ideal, precise);
+  cv::undistortPoints(pixels, ideal, m_ideal, d_ideal, cv::noArray(), m_ideal, precise);
+  double worst = 0.0;
+  for (size_t i = 0; i < pixels.size(); ++i) worst = std::max(worst, cv::norm(estimated[i] - ideal[i]));
+  return worst;
+}
+
 /// Rotation angle of a 3x3 rotation matrix [deg].
 double RotationAngleDeg(const cv::Mat& r) {
   const double c = (cv::trace(r)[0] - 1.0) / 2.0;
@@ -115,6 +135,28 @@ BoardSpec SidecarBoard(const std::filesystem::path& sidecar, const BoardSpec& fa
 }
 
 }  // namespace
+
+DistortionModel ParseDistortionModel(const std::string& text) {
+  for (DistortionModel m : {DistortionModel::kAuto, DistortionModel::kPinhole, DistortionModel::kBrownConrady,
+                            DistortionModel::kBrownConradyK3}) {
+    if (text == DistortionModelName(m)) return m;
+  }
+  throw Error("--distortion '" + text + "': expected auto, pinhole, brown-conrady or brown-conrady-k3");
+}
+
+const char* DistortionModelName(DistortionModel model) {
+  switch (model) {
+    case DistortionModel::kAuto:
+      return "auto";
+    case DistortionModel::kPinhole:
+      return "pinhole";
+    case DistortionModel::kBrownConrady:
+      return "brown-conrady";
+    case DistortionModel::kBrownConradyK3:
+      return "brown-conrady-k3";
+  }
+  return "?";
+}
 
 void CalibrationOptions::Check() const {
   const auto fail = [](const std::string& message) { throw Error("calibration options: " + message); };
@@ -209,8 +251,11 @@ CalibrationResult CalibrateFromDetections(std::vector<PairDetection> pairs, cv::
 
   // Zhang's method per camera, then the stereo refinement (thesis 3.3).
   int flags = 0;
-  if (options.fix_distortion)
+  result.distortion_estimated =
+      options.distortion == DistortionModel::kBrownConrady || options.distortion == DistortionModel::kBrownConradyK3;
+  if (!result.distortion_estimated)
     flags |= cv::CALIB_FIX_K1 | cv::CALIB_FIX_K2 | cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST;
+  if (options.distortion == DistortionModel::kBrownConrady) flags |= cv::CALIB_FIX_K3;  // k3 stays 0
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.max_iterations,
                                   options.epsilon);
   StereoCalibration& c = result.calibration;
@@ -266,6 +311,12 @@ CalibrationResult CalibrateFromDataset(const std::filesystem::path& dataset, con
   if (manifest.calib_pair_count == 0) throw Error(dataset.string() + ": the manifest lists no calibration pairs");
   CalibrationOptions opts = options;
   opts.board = SidecarBoard(SidecarPath(dataset, "calib", 0), options.board);
+  if (opts.distortion == DistortionModel::kAuto) {
+    // The lens model the rig declares (a camera with "distortion"), never its coefficients.
+    const bool distorted =
+        std::filesystem::is_regular_file(dataset / kRigName) && HasDistortion(LoadRig(dataset / kRigName));
+    opts.distortion = distorted ? DistortionModel::kBrownConrady : DistortionModel::kPinhole;
+  }
 
   std::vector<PairDetection> detections;
   cv::Size size;
@@ -342,6 +393,12 @@ IdealComparison CompareToIdeal(const StereoCalibration& estimated, const StereoC
   cmp.baseline_direction_error_deg =
       std::acos(std::clamp(t.dot(t_ideal) / (cv::norm(t) * cv::norm(t_ideal)), -1.0, 1.0)) * 180.0 / CV_PI;
   cmp.rectification_angle_deg = RotationAngleDeg(r1);
+  for (int i = 0; i < 5; ++i) {
+    cmp.left_distortion_error[i] = at(estimated.D1, 0, i) - at(ideal.D1, 0, i);
+    cmp.right_distortion_error[i] = at(estimated.D2, 0, i) - at(ideal.D2, 0, i);
+  }
+  cmp.left_ray_error_max_px = RayErrorMaxPx(estimated.M1, estimated.D1, ideal.M1, ideal.D1, ideal.image_size);
+  cmp.right_ray_error_max_px = RayErrorMaxPx(estimated.M2, estimated.D2, ideal.M2, ideal.D2, ideal.image_size);
   return cmp;
 }
 
@@ -354,6 +411,15 @@ std::string CalibrationResult::BriefReport() const {
   }
   out << "  RMS re-projection " << FormatFixed(rms_reprojection_px, 6) << " px (left " << FormatFixed(left_rms_px, 6)
       << ", right " << FormatFixed(right_rms_px, 6) << "), epipolar " << FormatFixed(epipolar_error_px, 6) << " px\n";
+  const auto coefficients = [](const cv::Mat& d) {
+    std::string text;
+    for (int i = 0; i < 5; ++i) text += (i ? " " : "") + FormatFixed(d.at<double>(0, i), 6);
+    return text;
+  };
+  if (distortion_estimated) {
+    out << "  distortion k1 k2 p1 p2 k3: left " << coefficients(calibration.D1) << ", right "
+        << coefficients(calibration.D2) << "\n";
+  }
   out << "  focal " << FormatFixed(calibration.Q.at<double>(2, 3), 3) << " px, baseline "
       << FormatFixed(cv::norm(calibration.T), 6) << " m\n";
   if (versus_ideal) {
@@ -361,7 +427,23 @@ std::string CalibrationResult::BriefReport() const {
         << FormatFixed(versus_ideal->baseline_error_percent, 4) << " %, left principal point "
         << FormatFixed(versus_ideal->left_principal_point_error_px, 3) << " px, rotation "
         << FormatFixed(versus_ideal->rotation_error_deg, 4) << " deg, baseline direction "
-        << FormatFixed(versus_ideal->baseline_direction_error_deg, 4) << " deg\n  Q percent error:\n";
+        << FormatFixed(versus_ideal->baseline_direction_error_deg, 4) << " deg\n";
+    if (distortion_estimated) {
+      const auto errors = [](const std::array<double, 5>& e) {
+        std::string text;
+        for (int i = 0; i < 5; ++i) text += (i ? " " : "") + FormatFixed(e[i], 6);
+        return text;
+      };
+      out << "  distortion error (estimate - ideal) k1 k2 p1 p2 k3: left "
+          << errors(versus_ideal->left_distortion_error) << ", right " << errors(versus_ideal->right_distortion_error)
+          << "\n";
+    }
+    if (distortion_estimated || versus_ideal->left_ray_error_max_px > 0.0) {
+      out << "  largest ray error over the image (undistorted pixel, estimate against ideal): left "
+          << FormatFixed(versus_ideal->left_ray_error_max_px, 3) << " px, right "
+          << FormatFixed(versus_ideal->right_ray_error_max_px, 3) << " px\n";
+    }
+    out << "  Q percent error:\n";
     for (int r = 0; r < 4; ++r) {
       out << "   ";
       for (int c = 0; c < 4; ++c) out << " " << FormatFixed(versus_ideal->q_percent_error.at<double>(r, c), 3) << "%";

@@ -175,6 +175,10 @@ std::string BopModelPly(const TriangleMesh& mesh) {
 
 ExportResult ExportBop(const ExportOptions& options) {
   const ExportSource source = ReadExportSource(options);
+  if (HasDistortion(source.frames.front().rig)) {
+    throw Error(options.dataset.string() +
+                ": BOP's camera model is a pinhole (cam_K), and this dataset's cameras have lens distortion");
+  }
   const std::filesystem::path receiver = options.dataset / kReceiverModelName;
   if (const auto it = source.manifest.files.find(kReceiverModelName); it == source.manifest.files.end() ||
                                                                       !std::filesystem::is_regular_file(receiver) ||

@@ -69,6 +69,10 @@ ExportResult ExportMiddlebury(const ExportOptions& options) {
     throw Error((options.dataset / kIdealCalibrationName).string() +
                 ": the images are not rectified (R1, R2 are not the identity)");
   }
+  if (cv::countNonZero(calibration.D1 != 0) > 0 || cv::countNonZero(calibration.D2 != 0) > 0) {
+    throw Error((options.dataset / kIdealCalibrationName).string() +
+                ": the images are not rectified (the cameras have lens distortion, D1/D2 not zero)");
+  }
   const double f = p1.at<double>(0, 0);
   const double baseline_m = -p2.at<double>(0, 3) / p2.at<double>(0, 0);
   const double doffs = p2.at<double>(0, 2) - p1.at<double>(0, 2);

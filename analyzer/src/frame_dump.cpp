@@ -26,7 +26,8 @@ void WritePng(const std::filesystem::path& path, const cv::Mat& image) {
 std::optional<cv::Point2d> Project(const DumpProjection& p, const Eigen::Vector3d& point_in_tanker) {
   const Eigen::Vector3d in_left = p.left_from_tanker * point_in_tanker;
   if (!(in_left.z() > 0.0)) return std::nullopt;
-  const Eigen::Vector3d uv = p.left_camera_matrix * (in_left / in_left.z());
+  const Eigen::Vector2d x = Distort(p.left_distortion, Eigen::Vector2d(in_left.x(), in_left.y()) / in_left.z());
+  const Eigen::Vector3d uv = p.left_camera_matrix * Eigen::Vector3d(x.x(), x.y(), 1.0);
   return cv::Point2d(uv.x(), uv.y());
 }
 

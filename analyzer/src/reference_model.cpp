@@ -25,9 +25,12 @@ struct DepthBuffer {
 };
 
 // Intrinsics of a raster of width x height covering the same field of view
-// (pixel centres at integers, so the image edge -0.5 maps to -0.5).
+// (pixel centres at integers, so the image edge -0.5 maps to -0.5). Pinhole:
+// what a camera sees does not depend on its lens, only the image's extent
+// does, and a lens's distortion leaves the receiver at contact in view.
 Intrinsics ScaledIntrinsics(const Intrinsics& k, int width, int height) {
   Intrinsics s = k;
+  s.distortion = BrownConrady{};
   const double sx = static_cast<double>(width) / k.width_px;
   const double sy = static_cast<double>(height) / k.height_px;
   s.width_px = width;

@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "aar/error.h"
+#include "aar/lens.h"
 
 namespace aar {
 namespace {
@@ -69,6 +70,8 @@ StereoTruthStats CompareWithTruth(const std::vector<Eigen::Vector3d>& pixels, co
   const double f = p1(0, 0), cx = p1(0, 2), cy = p1(1, 2), fy = p1(1, 1);
   const Eigen::Matrix3d left_from_rect = r1.transpose();
   const Eigen::Matrix3d k = m1;
+  const Eigen::MatrixXd d1 = ToEigen(calibration.D1);
+  const BrownConrady lens{d1(0, 0), d1(0, 1), d1(0, 2), d1(0, 3), d1(0, 4)};
   const int width = truth.depth_m.cols, height = truth.depth_m.rows;
   const auto id = [&](int x, int y) { return truth.ids.at<unsigned char>(y, x); };
   const auto depth = [&](int x, int y) { return static_cast<double>(truth.depth_m.at<float>(y, x)); };
@@ -77,7 +80,9 @@ StereoTruthStats CompareWithTruth(const std::vector<Eigen::Vector3d>& pixels, co
   for (const Eigen::Vector3d& pixel : pixels) {
     ++stats.points;
     const Eigen::Vector3d ray_left = left_from_rect * Eigen::Vector3d((pixel.x() - cx) / f, (pixel.y() - cy) / fy, 1.0);
-    const Eigen::Vector3d image = k * (ray_left / ray_left.z());
+    // The truth images are the left camera's own, through its lens (D1).
+    const Eigen::Vector2d distorted = Distort(lens, Eigen::Vector2d(ray_left.x(), ray_left.y()) / ray_left.z());
+    const Eigen::Vector3d image = k * Eigen::Vector3d(distorted.x(), distorted.y(), 1.0);
     const double x = image.x(), y = image.y();
     const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
     const int xn = static_cast<int>(std::lround(x)), yn = static_cast<int>(std::lround(y));

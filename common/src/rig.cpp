@@ -27,8 +27,14 @@ Eigen::Matrix3d Intrinsics::CameraMatrix() const {
 
 std::optional<Eigen::Vector2d> Intrinsics::Project(const Eigen::Vector3d& point_in_cam) const {
   if (point_in_cam.z() <= 1e-9) return std::nullopt;
-  return Eigen::Vector2d(fx_px * point_in_cam.x() / point_in_cam.z() + cx_px,
-                         fy_px * point_in_cam.y() / point_in_cam.z() + cy_px);
+  if (distortion.IsZero()) {
+    return Eigen::Vector2d(fx_px * point_in_cam.x() / point_in_cam.z() + cx_px,
+                           fy_px * point_in_cam.y() / point_in_cam.z() + cy_px);
+  }
+  const Eigen::Vector2d x(point_in_cam.x() / point_in_cam.z(), point_in_cam.y() / point_in_cam.z());
+  if (!RadiallyMonotonic(distortion, x.squaredNorm())) return std::nullopt;
+  const Eigen::Vector2d d = Distort(distortion, x);
+  return Eigen::Vector2d(fx_px * d.x() + cx_px, fy_px * d.y() + cy_px);
 }
 
 bool Intrinsics::Contains(const Eigen::Vector2d& pixel) const {
@@ -43,8 +49,15 @@ double StereoRig::Baseline() const {
   return (right.tanker_from_camera.translation() - left.tanker_from_camera.translation()).norm();
 }
 
+bool HasDistortion(const StereoRig& rig) {
+  return !rig.left.intrinsics.distortion.IsZero() || !rig.right.intrinsics.distortion.IsZero();
+}
+
 nlohmann::json IntrinsicsToJson(const Intrinsics& k) {
-  return {{"fx_px", k.fx_px}, {"fy_px", k.fy_px}, {"cx_px", k.cx_px}, {"cy_px", k.cy_px}};
+  nlohmann::json j = {{"fx_px", k.fx_px}, {"fy_px", k.fy_px}, {"cx_px", k.cx_px}, {"cy_px", k.cy_px}};
+  const BrownConrady& d = k.distortion;
+  if (!d.IsZero()) j["distortion"] = {{"k1", d.k1}, {"k2", d.k2}, {"p1", d.p1}, {"p2", d.p2}, {"k3", d.k3}};
+  return j;
 }
 
 nlohmann::json IsometryToJson(const Eigen::Isometry3d& a_from_b) {
@@ -54,7 +67,8 @@ nlohmann::json IsometryToJson(const Eigen::Isometry3d& a_from_b) {
           {"rotation", {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}}}};
 }
 
-Intrinsics IntrinsicsFromJson(const nlohmann::json& j, int width, int height, const std::string& where) {
+Intrinsics IntrinsicsFromJson(const nlohmann::json& j, int width, int height, const std::string& where,
+                              bool allow_distortion) {
   Intrinsics k;
   k.width_px = width;
   k.height_px = height;
@@ -63,6 +77,15 @@ Intrinsics IntrinsicsFromJson(const nlohmann::json& j, int width, int height, co
   k.cx_px = FiniteNumber(j, "cx_px", where);
   k.cy_px = FiniteNumber(j, "cy_px", where);
   if (k.fx_px <= 0 || k.fy_px <= 0) throw Error(where + ": focal lengths must be positive");
+  if (j.contains("distortion")) {
+    if (!allow_distortion) throw Error(where + ": 'distortion' needs schema \"" + std::string(kRigSchemaV2) + "\"");
+    const nlohmann::json& d = j.at("distortion");
+    const std::string at = where + ": distortion";
+    if (!d.is_object()) throw Error(at + " must be an object {k1, k2, p1, p2, k3}");
+    k.distortion = {FiniteNumber(d, "k1", at), FiniteNumber(d, "k2", at), FiniteNumber(d, "p1", at),
+                    FiniteNumber(d, "p2", at), FiniteNumber(d, "k3", at)};
+    CheckDistortionInImage(k.distortion, k.fx_px, k.fy_px, k.cx_px, k.cy_px, width, height, where);
+  }
   return k;
 }
 
@@ -93,7 +116,7 @@ nlohmann::json RigToJson(const StereoRig& rig) {
     return j;
   };
   const Eigen::Vector3d& contact = rig.contact_position_m;
-  return {{"schema", "aar-rig/1"},
+  return {{"schema", HasDistortion(rig) ? kRigSchemaV2 : kRigSchemaV1},
           {"image_width", rig.left.intrinsics.width_px},
           {"image_height", rig.left.intrinsics.height_px},
           {"cameras", {{"left", camera(rig.left)}, {"right", camera(rig.right)}}},
@@ -104,12 +127,21 @@ nlohmann::json RigToJson(const StereoRig& rig) {
 StereoRig RigFromJson(const nlohmann::json& j, const std::string& where) {
   try {
     StereoRig rig;
+    bool allow_distortion = false;
+    if (j.contains("schema")) {
+      const nlohmann::json& schema = j.at("schema");
+      if (!schema.is_string() || (schema != kRigSchemaV1 && schema != kRigSchemaV2)) {
+        throw Error(where + ": unknown schema " + schema.dump() + " (expected \"" + kRigSchemaV1 + "\" or \"" +
+                    kRigSchemaV2 + "\")");
+      }
+      allow_distortion = schema == kRigSchemaV2;
+    }
     const int width = static_cast<int>(JsonInteger(j.at("image_width"), 1, 16384, where + ": image_width"));
     const int height = static_cast<int>(JsonInteger(j.at("image_height"), 1, 16384, where + ": image_height"));
     auto camera = [&](const char* name) {
       const nlohmann::json& c = j.at("cameras").at(name);
       Camera cam;
-      cam.intrinsics = IntrinsicsFromJson(c, width, height, where + ": camera " + name);
+      cam.intrinsics = IntrinsicsFromJson(c, width, height, where + ": camera " + name, allow_distortion);
       cam.tanker_from_camera = IsometryFromJson(c.at("tanker_from_camera"), where + ": camera " + name);
       return cam;
     };

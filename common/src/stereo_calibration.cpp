@@ -1,5 +1,6 @@
 #include "aar/stereo_calibration.h"
 
+#include <array>
 #include <cmath>
 #include <opencv2/core/eigen.hpp>
 
@@ -28,8 +29,14 @@ StereoCalibration IdealCalibration(const StereoRig& rig) {
   c.image_size = cv::Size(kl.width_px, kl.height_px);
   cv::eigen2cv(Eigen::Matrix3d(kl.CameraMatrix()), c.M1);
   cv::eigen2cv(Eigen::Matrix3d(kr.CameraMatrix()), c.M2);
-  c.D1 = cv::Mat::zeros(1, 5, CV_64F);
-  c.D2 = cv::Mat::zeros(1, 5, CV_64F);
+  const auto distortion = [](const BrownConrady& d) {
+    const std::array<double, 5> k = d.OpenCvOrder();
+    cv::Mat row(1, 5, CV_64F);
+    for (int i = 0; i < 5; ++i) row.at<double>(0, i) = k[static_cast<size_t>(i)];
+    return row;
+  };
+  c.D1 = distortion(kl.distortion);
+  c.D2 = distortion(kr.distortion);
   c.R = cv::Mat::eye(3, 3, CV_64F);
   c.T = (cv::Mat_<double>(3, 1) << t.x(), 0.0, 0.0);
   c.R1 = cv::Mat::eye(3, 3, CV_64F);

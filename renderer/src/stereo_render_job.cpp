@@ -14,6 +14,7 @@
 #include "aar/renderer/calib_poses.h"
 #include "aar/renderer/dataset_writer.h"
 #include "aar/renderer/image_encode.h"
+#include "aar/renderer/lens_distortion.h"
 #include "aar/renderer/msaa.h"
 #include "aar/renderer/projection.h"
 #include "aar/renderer/scene_renderer.h"
@@ -73,7 +74,55 @@ struct Session {
   std::unique_ptr<VulkanContext> context;
   std::unique_ptr<SceneRenderer> renderer;
   MsaaPlan plan;
+  // With lens distortion (docs/rendering.md): both cameras are rendered as
+  // pinhole cameras on one grown image and resampled; empty for a pinhole rig.
+  std::optional<LensResampler> left_lens, right_lens;
+
+  const Camera& RigCamera(const std::string& side) const { return side == "left" ? rig.left : rig.right; }
+  const std::optional<LensResampler>& Lens(const std::string& side) const {
+    return side == "left" ? left_lens : right_lens;
+  }
+  /// The camera the scene is rendered with: the rig's, or its pinhole stand-in.
+  Camera RenderCamera(const std::string& side) const {
+    Camera camera = RigCamera(side);
+    if (Lens(side)) camera.intrinsics = Lens(side)->pinhole();
+    return camera;
+  }
 };
+
+// Both cameras' pinhole stand-ins share one image size: the union of the margins they need.
+void OpenLenses(Session& s) {
+  if (!HasDistortion(s.rig)) return;
+  PixelMargin margin;
+  for (const char* side : {"left", "right"}) {
+    const PixelMargin m =
+        LensResampler::RequiredMargin(s.RigCamera(side).intrinsics, std::string("rig camera ") + side);
+    margin = {std::max(margin.left, m.left), std::max(margin.top, m.top), std::max(margin.right, m.right),
+              std::max(margin.bottom, m.bottom)};
+  }
+  s.left_lens.emplace(s.rig.left.intrinsics, margin, "rig camera left");
+  s.right_lens.emplace(s.rig.right.intrinsics, margin, "rig camera right");
+}
+
+nlohmann::json LensJson(const Session& s) {
+  const auto coefficients = [](const Intrinsics& k) {
+    const std::array<double, 5> d = k.distortion.OpenCvOrder();
+    return nlohmann::json(std::vector<double>(d.begin(), d.end()));
+  };
+  const Intrinsics& pinhole = s.left_lens->pinhole();
+  return {{"model", "brown-conrady: OpenCV k1, k2, p1, p2, k3"},
+          {"left", coefficients(s.rig.left.intrinsics)},
+          {"right", coefficients(s.rig.right.intrinsics)},
+          {"pinhole_render",
+           {{"width", pinhole.width_px},
+            {"height", pinhole.height_px},
+            {"margin_left_top_px",
+             {pinhole.cx_px - s.rig.left.intrinsics.cx_px, pinhole.cy_px - s.rig.left.intrinsics.cy_px}}}},
+          {"color_resampling",
+           "inverse map (Newton), separable Lanczos-3 in linear float colour, footprint scaled by the inverse map's "
+           "Jacobian (at least one pinhole pixel), negative lobes clamped at 0"},
+          {"truth_resampling", "nearest pinhole sample (depth, object ids, silhouette never blended)"}};
+}
 
 Session OpenSession(const RenderJobOptions& options, const StereoRig& rig) {
   Session s;
@@ -84,8 +133,9 @@ Session OpenSession(const RenderJobOptions& options, const StereoRig& rig) {
   s.plan = PlanMsaa(options.msaa, s.context->info().color_sample_counts);
   SceneRendererOptions render_options;
   render_options.max_anisotropy = options.anisotropy;
-  s.renderer = std::make_unique<SceneRenderer>(*s.context, rig.left.intrinsics.width_px, rig.left.intrinsics.height_px,
-                                               render_options);
+  OpenLenses(s);
+  const Intrinsics& size = s.RenderCamera("left").intrinsics;
+  s.renderer = std::make_unique<SceneRenderer>(*s.context, size.width_px, size.height_px, render_options);
   return s;
 }
 
@@ -103,15 +153,22 @@ void WriteMask(const std::filesystem::path& dataset, const std::string& relative
 void WriteDepthTruth(Session& session, const std::vector<RenderItem>& items, const std::filesystem::path& dataset,
                      const std::string& prefix, const std::string& side, FrameSidecar& sidecar,
                      RenderStageTimes& times) {
-  const Camera& camera = side == "left" ? session.rig.left : session.rig.right;
+  const Camera camera = session.RenderCamera(side);
+  const std::optional<LensResampler>& lens = session.Lens(side);
   auto start = std::chrono::steady_clock::now();
-  const GroundTruthImage truth = session.renderer->RenderGroundTruth(camera, session.rig.near_m, items);
+  GroundTruthImage truth = session.renderer->RenderGroundTruth(camera, session.rig.near_m, items);
   std::vector<RenderItem> receiver_only;
   for (const RenderItem& item : items) {
     if (item.object_id == kReceiverId) receiver_only.push_back(item);
   }
-  const GroundTruthImage alone = session.renderer->RenderGroundTruth(camera, session.rig.near_m, receiver_only);
+  GroundTruthImage alone = session.renderer->RenderGroundTruth(camera, session.rig.near_m, receiver_only);
   times.render_ms += MillisecondsSince(start);
+  if (lens) {
+    start = std::chrono::steady_clock::now();
+    truth = lens->ResampleTruth(truth);
+    alone = lens->ResampleTruth(alone);
+    times.readback_ms += MillisecondsSince(start);
+  }
   start = std::chrono::steady_clock::now();
   const std::string depth_relative = prefix + "_" + side + "_depth.exr";
   sidecar.files[side + "_depth"] = FileRef{depth_relative, WriteDepthExr(dataset / depth_relative, truth)};
@@ -128,12 +185,17 @@ void WritePair(Session& session, const std::vector<RenderItem>& items, const std
                RenderStageTimes& times) {
   const std::string stem = FrameStem(sidecar.index);
   for (const char* side : {"left", "right"}) {
-    const Camera& camera = std::string(side) == "left" ? session.rig.left : session.rig.right;
     ViewTimings view;
-    const LinearImage image = session.renderer->RenderColor(camera, session.rig.near_m, items, session.plan, &view);
+    LinearImage image =
+        session.renderer->RenderColor(session.RenderCamera(side), session.rig.near_m, items, session.plan, &view);
     times.render_ms += view.render_ms;
     times.readback_ms += view.readback_ms;
     auto start = std::chrono::steady_clock::now();
+    if (const std::optional<LensResampler>& lens = session.Lens(side)) {
+      image = lens->ResampleColor(image);
+      times.readback_ms += MillisecondsSince(start);
+      start = std::chrono::steady_clock::now();
+    }
     const std::string png = EncodePng(ToSrgb8(image));
     times.encode_ms += MillisecondsSince(start);
     start = std::chrono::steady_clock::now();
@@ -181,14 +243,16 @@ RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size
 
 // The manifest keys both jobs share; computes hashes, writes nothing.
 nlohmann::json CommonHeader(const Session& session, const std::string& rig_hash) {
-  return {{"schema", kDatasetSchema},
-          {"renderer", RendererIdentity()},
-          {"device", DeviceJson(session.context->info())},
-          {"image",
-           {{"width", session.rig.left.intrinsics.width_px},
-            {"height", session.rig.left.intrinsics.height_px},
-            {"encoding", "PNG, 8-bit sRGB, RGB"}}},
-          {"inputs", {{"rig", {{"file", kRigName}, {"sha256", rig_hash}}}}}};
+  nlohmann::json header = {{"schema", kDatasetSchema},
+                           {"renderer", RendererIdentity()},
+                           {"device", DeviceJson(session.context->info())},
+                           {"image",
+                            {{"width", session.rig.left.intrinsics.width_px},
+                             {"height", session.rig.left.intrinsics.height_px},
+                             {"encoding", "PNG, 8-bit sRGB, RGB"}}},
+                           {"inputs", {{"rig", {{"file", kRigName}, {"sha256", rig_hash}}}}}};
+  if (session.left_lens) header["image"]["lens"] = LensJson(session);  // absent for a pinhole rig
+  return header;
 }
 
 }  // namespace
@@ -261,6 +325,7 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   const SceneModel board = LoadSceneModel(options.board_model);
   CalibPoseOptions pose_options;
   pose_options.far_distances_m = options.far_boards_m;
+  pose_options.corner_boards = options.corner_boards;
   const std::vector<Pose> poses = CalibrationBoardPoses(rig, pose_options);
   options.selection.CheckWithin(poses.size(), "calibration board poses");
   CheckOutputFolder(options.output);
@@ -281,6 +346,7 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
       {"msaa", MsaaJson(session.plan)},
       {"texture_anisotropy", options.anisotropy},
       {"board", {{"inner_corners", {spec.inner_corners_x, spec.inner_corners_y}}, {"square_m", spec.square_m}}}};
+  if (options.corner_boards) header["calib"]["corner_boards"] = true;  // absent: the earlier pose sets, unchanged
   OpenManifest(options.output, header, [&] {
     CopyInput(options.output, options.rig, kRigName, rig_hash);
     WriteCalibration(options.output / kIdealCalibrationName, ideal);

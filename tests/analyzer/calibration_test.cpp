@@ -270,7 +270,7 @@ TEST(Calibration, RecoversFocalLengthAndBaselineFromSyntheticBoards) {
 
 TEST(Calibration, EstimatingDistortionStillRecoversTheRig) {
   CalibrationOptions options;
-  options.fix_distortion = false;
+  options.distortion = DistortionModel::kBrownConradyK3;
   std::vector<PairDetection> detections = SyntheticCalibration().pairs;  // same corners, no re-detection
   const CalibrationResult r =
       CalibrateFromDetections(detections, cv::Size(1024, 768), options, IdealCalibration(Synthetic().rig), "images");

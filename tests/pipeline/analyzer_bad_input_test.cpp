@@ -51,6 +51,15 @@ TEST(AnalyzeBadInput, NoManifestFailsBeforeWritingOutput) {
                      {(dataset / kManifestName).string(), "no manifest"}, out);
 }
 
+TEST(AnalyzeBadInput, UnknownLensModelFailsBeforeWritingOutput) {
+  ASSERT_DATASETS();
+  TempDir dir("analyze-bad-lens-model");
+  const fs::path out = dir / "out";
+  ExpectCleanFailure(
+      RunAnalyze("calibrate " + Quote(SharedDatasets().near_contact) + " --distortion fisheye --out " + Quote(out)),
+      {"--distortion 'fisheye': expected auto, pinhole, brown-conrady or brown-conrady-k3"}, out);
+}
+
 TEST(AnalyzeBadInput, UnreadableCalibrationFailsBeforeWritingOutput) {
   ASSERT_DATASETS();
   TempDir dir("analyze-bad-calibration");

@@ -55,6 +55,13 @@ TEST_P(RenderBadInput, FailsWithOneClearMessageAndWritesNothing) {
   std::string rig = ReadFileBytes(SourcePath("scenes/rig.json"));
   rig.replace(rig.find("\"near_m\": 0.5"), 13, "\"near_m\": 0.0");
   WriteFileAtomic(dir / "near0.json", rig);
+  // A lens whose radial mapping folds back inside the image, and a distortion in a schema-1 rig.
+  std::string lens = ReadFileBytes(SourcePath("scenes/rig-distorted.json"));
+  std::string fold = lens;
+  fold.replace(fold.find("\"k1\": -0.15"), 11, "\"k1\": -0.6");
+  WriteFileAtomic(dir / "fold.json", fold);
+  lens.replace(lens.find("aar-rig/2"), 9, "aar-rig/1");
+  WriteFileAtomic(dir / "v1-lens.json", lens);
   WriteFileAtomic(dir / "a-file", "x");
   std::string flags = c.extra_flags;
   for (const auto& [key, value] : {std::pair<std::string, std::string>{"@DIR@", dir.path().string()}}) {
@@ -86,6 +93,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadInputCase{"huge-count", "", "--receiver @DIR@/huge-count.gltf", "",
                      "huge-count.gltf: accessor 0 reads past the end of its buffer"},
         BadInputCase{"near-zero", "", "--rig @DIR@/near0.json", "", "near0.json: near_m must be positive"},
+        BadInputCase{"lens-folds", "", "--rig @DIR@/fold.json", "",
+                     "fold.json: camera left: lens distortion (k1 -0.6, k2 0.05, p1 0.0001, p2 -0.0001, k3 0) is not "
+                     "one-to-one inside the image"},
+        BadInputCase{"lens-in-schema-1", "", "--rig @DIR@/v1-lens.json", "",
+                     "v1-lens.json: camera left: 'distortion' needs schema \"aar-rig/2\""},
         BadInputCase{"anisotropy-0", "", "--anisotropy 0", "", "--anisotropy 0.000000: expected 1 (trilinear) to 16"},
         BadInputCase{"anisotropy-17", "", "--anisotropy 17", "", "--anisotropy 17.000000: expected 1"},
         BadInputCase{"anisotropy-neg", "", "--anisotropy -1", "", "--anisotropy -1.000000: expected 1"},

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cstdio>
 #include <filesystem>
 #include <vector>
 
@@ -69,6 +71,45 @@ TEST(CalibPoses, TwelveBoardPosesFitBothViews) {
       }
     }
   }
+}
+
+// The corner boards reach the image periphery: each fits both views, their
+// outlines come within a few pixels of every image edge, and nearer every
+// image corner than the twelve standard poses do.
+TEST(CalibPoses, CornerBoardsReachTheImagePeriphery) {
+  const StereoRig rig = LoadRig(std::filesystem::path(AAR_SOURCE_DIR) / "scenes" / "rig-distorted.json");
+  CalibPoseOptions options;
+  options.corner_boards = true;
+  const std::vector<Pose> poses = CalibrationBoardPoses(rig, options);
+  ASSERT_EQ(poses.size(), 20u);
+  const double w = rig.left.intrinsics.width_px - 1.0, h = rig.left.intrinsics.height_px - 1.0;
+  const Eigen::Vector2d image_corners[4] = {{0, 0}, {w, 0}, {0, h}, {w, h}};
+  // Per image corner, the nearest board outline corner in the left image, of poses [first, last) [px].
+  const auto nearest = [&](size_t first, size_t last) {
+    std::array<double, 4> d = {1e9, 1e9, 1e9, 1e9};
+    for (size_t i = first; i < last; ++i) {
+      for (const Eigen::Vector3d& corner : BoardOutline(options)) {
+        for (const Camera* cam : {&rig.left, &rig.right}) {
+          const auto px =
+              cam->intrinsics.Project(cam->tanker_from_camera.inverse() * (IsometryFromPose(poses[i]) * corner));
+          EXPECT_TRUE(px.has_value() && px->x() >= options.margin_px - 1e-9 && px->y() >= options.margin_px - 1e-9 &&
+                      px->x() <= w - options.margin_px + 1e-9 && px->y() <= h - options.margin_px + 1e-9)
+              << "pose " << i;
+          if (cam != &rig.left || !px) continue;
+          for (int c = 0; c < 4; ++c) d[c] = std::min(d[c], (*px - image_corners[c]).norm());
+        }
+      }
+    }
+    return d;
+  };
+  const std::array<double, 4> standard = nearest(0, 12), periphery = nearest(12, 20);
+  for (int c = 0; c < 4; ++c) {
+    std::printf("image corner %d: nearest board corner %.0f px (twelve standard poses: %.0f px)\n", c, periphery[c],
+                standard[c]);
+    EXPECT_LT(periphery[c], 0.6 * standard[c]) << "image corner " << c;
+  }
+  // Without the option the pose set is unchanged.
+  EXPECT_EQ(CalibrationBoardPoses(rig).size(), 12u);
 }
 
 TEST(CalibPoses, FarDistancesRepeatTheTwelveTiltsThere) {

@@ -1,24 +1,36 @@
 #pragma once
-// The stereo rig (scenes/rig.json, docs/frames.md): two pinhole cameras with
-// no distortion, each with its pose tanker_from_camera.
+// The stereo rig (scenes/rig.json, docs/frames.md): two cameras, pinhole with
+// optional Brown-Conrady distortion (lens.h; schema aar-rig/2), each with its
+// pose tanker_from_camera.
 
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <nlohmann/json_fwd.hpp>
 #include <optional>
 
+#include "aar/lens.h"
+
 namespace aar {
 
+/// Rig file schemas: 1 = pinhole cameras, 2 = with "distortion" per camera.
+/// Rigs are written as 2 only when a camera has distortion, so pinhole rigs
+/// (and the datasets made with them) are unchanged; both are read.
+inline constexpr const char* kRigSchemaV1 = "aar-rig/1";
+inline constexpr const char* kRigSchemaV2 = "aar-rig/2";
+
 struct Intrinsics {
-  int width_px = 1024;   ///< image width [px]
-  int height_px = 768;   ///< image height [px]
-  double fx_px = 900.0;  ///< focal length along x [px]
-  double fy_px = 900.0;  ///< focal length along y [px]
-  double cx_px = 511.5;  ///< principal point x [px], OpenCV convention (pixel centres at integers)
-  double cy_px = 383.5;  ///< principal point y [px]
+  int width_px = 1024;      ///< image width [px]
+  int height_px = 768;      ///< image height [px]
+  double fx_px = 900.0;     ///< focal length along x [px]
+  double fy_px = 900.0;     ///< focal length along y [px]
+  double cx_px = 511.5;     ///< principal point x [px], OpenCV convention (pixel centres at integers)
+  double cy_px = 383.5;     ///< principal point y [px]
+  BrownConrady distortion;  ///< lens distortion (all zero: the ideal pinhole)
 
   Eigen::Matrix3d CameraMatrix() const;
-  /// Pixel of a point in the camera frame (x right, y down, z forward); nullopt behind the camera.
+  /// Pixel of a point in the camera frame (x right, y down, z forward), with
+  /// the lens distortion; nullopt behind the camera or beyond the radius where
+  /// the distortion model folds back (lens.h, RadiallyMonotonic).
   std::optional<Eigen::Vector2d> Project(const Eigen::Vector3d& point_in_cam) const;
   bool Contains(const Eigen::Vector2d& pixel) const;
 };
@@ -43,12 +55,19 @@ struct StereoRig {
 /// Reads a rig file; throws aar::Error naming the file and the bad field.
 StereoRig LoadRig(const std::filesystem::path& path);
 
-/// JSON form used in rig files and frame sidecars.
+/// Whether any camera has lens distortion (the rig is then written as aar-rig/2).
+bool HasDistortion(const StereoRig& rig);
+
+/// JSON form used in rig files and frame sidecars: "fx_px" .. "cy_px", plus
+/// "distortion" {k1, k2, p1, p2, k3} when the lens has any.
 nlohmann::json IntrinsicsToJson(const Intrinsics& intrinsics);
 nlohmann::json IsometryToJson(const Eigen::Isometry3d& a_from_b);
 nlohmann::json RigToJson(const StereoRig& rig);
-/// Parse helpers; `where` prefixes error messages.
-Intrinsics IntrinsicsFromJson(const nlohmann::json& j, int width, int height, const std::string& where);
+/// Parse helpers; `where` prefixes error messages. `allow_distortion`: the
+/// schema is aar-rig/2 (a "distortion" object in aar-rig/1 is refused); the
+/// distortion must be one-to-one inside the image (CheckDistortionInImage).
+Intrinsics IntrinsicsFromJson(const nlohmann::json& j, int width, int height, const std::string& where,
+                              bool allow_distortion = false);
 Eigen::Isometry3d IsometryFromJson(const nlohmann::json& j, const std::string& where);
 StereoRig RigFromJson(const nlohmann::json& j, const std::string& where);
 

@@ -21,9 +21,12 @@ struct StereoCalibration {
   cv::Mat Q;               ///< 4x4 disparity-to-depth matrix
 };
 
-/// The exact calibration implied by a rig (no distortion); requires the two
-/// cameras to be parallel with identical intrinsics, as in scenes/rig.json,
-/// so that rectification is the identity. Throws aar::Error otherwise.
+/// The exact calibration implied by a rig; requires the two cameras to be
+/// parallel with identical pinhole intrinsics, as in scenes/rig.json, so that
+/// rectification is the identity. D1, D2 are the cameras' lens distortion
+/// (zero for a pinhole rig; the two lenses may differ): undistortion then maps
+/// each image onto the ideal pinhole, which R1 = R2 = I leaves rectified.
+/// Throws aar::Error otherwise.
 StereoCalibration IdealCalibration(const StereoRig& rig);
 
 /// OpenCV FileStorage YAML text for a calibration.

@@ -11,6 +11,7 @@
 // Nothing here needs truth: the board poses in the calib sidecars are never
 // read. The ideal calibration is used only to report errors.
 
+#include <array>
 #include <cstddef>
 #include <filesystem>
 #include <opencv2/core.hpp>
@@ -22,6 +23,21 @@
 #include "aar/stereo_calibration.h"
 
 namespace aar {
+
+/// Which lens model the calibration fits.
+enum class DistortionModel {
+  kAuto,     ///< CalibrateFromDataset: kBrownConrady when the dataset's rig.json gives its cameras lens distortion
+             ///< (aar-rig/2 with "distortion"; the model, never the values, is read), else kPinhole; elsewhere kPinhole
+  kPinhole,  ///< D1 = D2 = 0 (CALIB_FIX_K1..K3 | CALIB_ZERO_TANGENT_DIST), the renderer's pinhole cameras
+  kBrownConrady,    ///< estimate k1 k2 p1 p2, k3 fixed at 0 (CALIB_FIX_K3): two radial terms, the default of ROS
+                    ///< camera_calibration (--k-coefficients 2) and MATLAB's estimateCameraParameters; with boards
+                    ///< that do not reach the image corners k3 trades off against k2
+  kBrownConradyK3,  ///< estimate all of k1 k2 p1 p2 k3, OpenCV's default (the thesis)
+};
+
+/// "auto", "pinhole", "brown-conrady", "brown-conrady-k3" (the --distortion values).
+DistortionModel ParseDistortionModel(const std::string& text);
+const char* DistortionModelName(DistortionModel model);
 
 struct CalibrationOptions {
   BoardSpec board;  ///< board geometry (thesis 3.3: 16x17 inner corners, 0.5 m squares); a calib sidecar's "board"
@@ -40,8 +56,7 @@ struct CalibrationOptions {
 
   // Calibration model. Both cameras are first calibrated alone (Zhang), then
   // stereoCalibrate refines (R, T) starting from those intrinsics.
-  bool fix_distortion = true;  ///< true: D1 = D2 = 0 (CALIB_FIX_K1..K3 | CALIB_ZERO_TANGENT_DIST), the renderer's
-                               ///< pinhole model; false: estimate k1 k2 p1 p2 k3 like OpenCV's default (the thesis)
+  DistortionModel distortion = DistortionModel::kAuto;  ///< lens model (see DistortionModel)
   bool refine_intrinsics_in_stereo = true;  ///< true: CALIB_USE_INTRINSIC_GUESS (stereoCalibrate refines both cameras
                                             ///< jointly with R, T); false: CALIB_FIX_INTRINSIC (only R, T)
   int max_iterations = 100;                 ///< Levenberg-Marquardt iterations (calibrateCamera and stereoCalibrate)
@@ -91,6 +106,14 @@ struct IdealComparison {
   double baseline_direction_error_deg = 0.0;  ///< angle between T and T_ideal [deg]
   double rectification_angle_deg =
       0.0;  ///< angle of R1 (rect_left against left); the ideal's is 0 for a parallel rig [deg]
+  std::array<double, 5> left_distortion_error{};   ///< D1 - D1_ideal (k1 k2 p1 p2 k3)
+  std::array<double, 5> right_distortion_error{};  ///< D2 - D2_ideal
+  /// Largest distance, over every 4th pixel of the image, between where the
+  /// estimated and the ideal calibration put a pixel's ray (undistortPoints
+  /// with M1, D1 against the ideal's, in the ideal's pixels): the intrinsics'
+  /// and the distortion's errors together, as rectification sees them [px].
+  double left_ray_error_max_px = 0.0;
+  double right_ray_error_max_px = 0.0;  ///< the same for M2, D2
 };
 
 struct CalibrationResult {
@@ -110,6 +133,7 @@ struct CalibrationResult {
   double epipolar_algebraic = 0.0;  ///< 1/N sum_i |p_r^T F p_l| with pixel coordinates (F as stereoCalibrate scales it)
   size_t corner_count = 0;          ///< N: corners per image summed over the used pairs
   size_t used_pairs = 0;
+  bool distortion_estimated = false;            ///< D1, D2 were fitted (Brown-Conrady), not fixed at zero
   std::vector<PairDetection> pairs;             ///< every pair given, in order, with status
   std::optional<IdealComparison> versus_ideal;  ///< when an ideal calibration was given / found
 
@@ -149,7 +173,8 @@ CalibrationResult CalibrateFromImages(const std::vector<StereoImagePair>& pairs,
                                       const std::optional<StereoCalibration>& ideal = std::nullopt);
 
 /// Reads DATASET/manifest.json (calib pair count) and every
-/// DATASET/calib/NNNNNN_{left,right}.png, then calibrates. Errors are
+/// DATASET/calib/NNNNNN_{left,right}.png, then calibrates (options.distortion
+/// kAuto resolved from DATASET/rig.json). Errors are
 /// compared with DATASET/calibration_ideal.yaml when present (else with the
 /// ideal calibration of DATASET/rig.json when present). Throws aar::Error
 /// naming the file for a missing or undecodable image, and naming the dataset

@@ -20,6 +20,8 @@
 #include <optional>
 #include <vector>
 
+#include "aar/lens.h"
+
 namespace aar {
 
 /// Filled by FrameAnalyzer::Analyze when asked for.
@@ -36,6 +38,7 @@ struct FrameDump {
 /// What the overlay needs to project receiver points into the left image.
 struct DumpProjection {
   Eigen::Matrix3d left_camera_matrix;                     ///< M1 of the run's calibration
+  BrownConrady left_distortion;                           ///< D1 of the run's calibration
   Eigen::Isometry3d left_from_tanker;                     ///< inverse(tanker_from_left)
   std::vector<Eigen::Vector3d> model_points_in_receiver;  ///< the reference model
 };

@@ -21,6 +21,11 @@ struct CalibPoseOptions {
   /// baseline's component along the optical axis nearly indistinguishable
   /// (both scale one image against the other); more distances separate them.
   std::vector<double> far_distances_m;
+  /// Eight more poses, last: the board pushed towards each image corner and
+  /// edge midpoint (at the nearest distance where it fits, tilted 10 deg to
+  /// face the optical axis), so that the image periphery, where lens
+  /// distortion is largest, has corners to fit. Off by default (the thesis's set).
+  bool corner_boards = false;
   BoardSpec board;
 };
 
@@ -30,7 +35,8 @@ std::vector<Eigen::Vector3d> BoardOutline(const CalibPoseOptions& options);
 /// Twelve poses tanker_from_board: tilts of up to 30 degrees about the board's
 /// x and y axes and up to 15 degrees about its normal, each pushed back from
 /// `min_distance_m` in 0.25 m steps until the outline fits both images; then
-/// the same twelve tilts at each of far_distances_m.
+/// the same twelve tilts at each of far_distances_m; then, with corner_boards,
+/// the eight periphery poses.
 std::vector<Pose> CalibrationBoardPoses(const StereoRig& rig, const CalibPoseOptions& options = {});
 
 }  // namespace aar

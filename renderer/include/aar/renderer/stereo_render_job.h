@@ -26,6 +26,7 @@ struct RenderJobOptions {
   bool depth = false;        ///< also write left-camera depth EXR, object ids and receiver silhouette (render job)
   bool depth_right = false;  ///< the same for the right camera (implies `depth`)
   std::vector<double> far_boards_m;  ///< calib job: the twelve board tilts again at each distance [m]
+  bool corner_boards = false;        ///< calib job: eight more boards towards the image corners and edges
   FrameSelection selection;          ///< frames (or calib pairs) to render
   std::string device;                ///< Vulkan device name filter ("" = lavapipe first)
   bool progress = true;              ///< progress line on stderr
@@ -39,7 +40,7 @@ struct RenderJobOptions {
 /// Accumulated wall time per stage over the pairs rendered [ms].
 struct RenderStageTimes {
   double render_ms = 0.0;    ///< GPU passes (all MSAA passes of both views)
-  double readback_ms = 0.0;  ///< copies to host memory, half-to-float, averaging
+  double readback_ms = 0.0;  ///< copies to host memory, half-to-float, averaging, lens resampling
   double encode_ms = 0.0;    ///< sRGB conversion and PNG (and EXR) encoding
   double write_ms = 0.0;     ///< hashing and atomic writes of images and sidecars
 };

@@ -1,0 +1,59 @@
+#pragma once
+// Rendering a camera with lens distortion (docs/rendering.md, "Lens
+// distortion"): the scene is rendered by the ideal pinhole camera with the
+// same focal lengths and principal point, on an image grown by a margin that
+// covers the distorted frame's field of view; each distorted output pixel then
+// takes the pinhole image at the undistorted position of its centre (inverse
+// map, Newton's method, lens.h). Colour is resampled in linear light with a
+// separable Lanczos-3 filter whose footprint follows the inverse map's
+// Jacobian (never narrower than one pinhole pixel, so minified parts do not
+// alias); depth, object ids and silhouettes take the nearest pinhole sample,
+// never blended. Pure CPU code, deterministic.
+
+#include <string>
+#include <vector>
+
+#include "aar/renderer/scene_renderer.h"
+#include "aar/rig.h"
+
+namespace aar {
+
+/// Pixels each side that the pinhole image extends beyond the distorted one.
+struct PixelMargin {
+  int left = 0, top = 0, right = 0, bottom = 0;
+};
+
+inline constexpr int kLanczosLobes = 3;         ///< Lanczos-a filter, a = 3 (support +-3 source pixels at scale 1)
+inline constexpr int kMaxPinholeSidePx = 8192;  ///< largest pinhole render side (keeps the Vulkan images bounded)
+
+class LensResampler {
+ public:
+  /// Inverse map of one distorted camera. `margin` must cover the filter
+  /// footprint of every output pixel (RequiredMargin); larger is fine, so
+  /// both cameras of a rig can share one pinhole image size. Throws
+  /// aar::Error naming `where` when a pixel has no undistorted preimage.
+  LensResampler(const Intrinsics& distorted, const PixelMargin& margin, const std::string& where);
+
+  /// The margin one camera needs (source footprint of every output pixel, plus one pixel).
+  static PixelMargin RequiredMargin(const Intrinsics& distorted, const std::string& where);
+
+  /// The pinhole camera the scene is rendered with: no distortion, the same
+  /// focal lengths, image grown by the margin, principal point moved with it.
+  const Intrinsics& pinhole() const { return pinhole_; }
+
+  /// The distorted view of a pinhole render (pinhole() sized).
+  LinearImage ResampleColor(const LinearImage& pinhole) const;
+  /// Depth and ids of the nearest pinhole sample, never blended.
+  GroundTruthImage ResampleTruth(const GroundTruthImage& pinhole) const;
+
+ private:
+  int width_ = 0;  // distorted image size
+  int height_ = 0;
+  Intrinsics pinhole_;
+  // Per output pixel, row-major: the source position in the pinhole image
+  // (OpenCV pixel coordinates) and the filter footprint scale (>= 1) per axis.
+  std::vector<double> source_x_, source_y_;
+  std::vector<float> scale_x_, scale_y_;
+};
+
+}  // namespace aar
