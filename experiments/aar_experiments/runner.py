@@ -94,6 +94,8 @@ class Ctx:
         self.quick = args.quick
         self.background = getattr(args, "background", "flat")
         self.sel = SELECTIONS["quick" if args.quick else "full"]
+        if getattr(args, "shard", None):
+            self.sel = dict(self.sel, conops=("shard", args.shard))
         self.memo = memo            # shared across experiments of one `all`
         self.commands = []          # (step, command line, seconds or None when reused)
         self.datasets_used = {}     # name -> path

@@ -123,6 +123,22 @@ TEST(Reprojection, DropsInvalidBehindAndBeyondMaxDepthThenKeepsOneInEight) {
   EXPECT_THROW(Reproject(disparity, kInvalid16, c, Eigen::Isometry3d::Identity(), bad), Error);
 }
 
+// A receiver patch in front of a textured background whose valid disparities
+// lie beyond max_depth_m (terrain at kilometres): the target_points step
+// counts only the patch, so it keeps about target_points points.
+TEST(Reprojection, TargetPointsStepIgnoresBackgroundBeyondMaxDepth) {
+  const StereoRig rig = TestRig();
+  const StereoCalibration c = IdealCalibration(rig);
+  cv::Mat disparity(kHeight, kWidth, CV_16S, cv::Scalar(4));   // 0.25 px: 1.8 km, beyond 750 m
+  disparity(cv::Rect(40, 30, 80, 60)).setTo(cv::Scalar(200));  // 12.5 px: 36 m, 4,800 pixels
+  ReprojectionOptions options = PlainOptions();
+  options.keep_one_in = 1;
+  options.target_points = 1200;
+  const SensedCloud cloud = Reproject(disparity, kInvalid16, c, rig.left.tanker_from_camera, options);
+  EXPECT_EQ(cloud.valid_count, 4800u);
+  EXPECT_EQ(cloud.kept_count, 1200u);  // step 4800 / 1200 = 4, not 19200 / 1200 = 16
+}
+
 TEST(Reprojection, MatchesReprojectImageTo3DAndUndoesRectification) {
   // A calibration with a rotated rectification: point_in_left = R1^T point_in_rect_left.
   StereoCalibration c = IdealCalibration(TestRig());

@@ -22,6 +22,8 @@ struct ReprojectionOptions {
   /// When > 0, the decimation step is raised to floor(valid pixels /
   /// target_points) when that is larger than keep_one_in, so that a near
   /// receiver gives about this many points and a far one keeps all of its few.
+  /// Valid pixels are those that pass the depth filter (a textured background
+  /// beyond max_depth_m does not count).
   size_t target_points = 0;
   /// Subtracted from every disparity before eq. 1 (and before sub-pixel
   /// refinement, as its starting value) [px]. 0 reproduces the thesis's plain
