@@ -162,6 +162,27 @@ TEST(Background, HorizonAtTheRowAltitudeAndPitchPredict) {
   EXPECT_GT(sky[0], ground[0] + 20);  // BGR: blue
 }
 
+// Sky: the same horizon, and below it plain ground (id 4) without texture:
+// along an image row the colour varies only with the haze, smoothly.
+TEST(Background, SkyHasAHorizonAndPlainGround) {
+  TempDir dir("background-sky");
+  RenderJobOptions o = Options(dir / "ds", WritePath(dir));
+  o.background.kind = BackgroundKind::kSky;
+  o.background.tanker_pitch_deg = 20.0;
+  o.depth = true;
+  o.selection.begin = 1;
+  RenderFlightPathJob(o);
+  const cv::Mat mask = ReadGrey(FramePath(o.output, 1, "left_mask"));
+  EXPECT_EQ(mask.at<uint8_t>(100, 512), 0);
+  EXPECT_EQ(mask.at<uint8_t>(700, 512), kGroundId);
+  cv::Mat grey;
+  cv::cvtColor(cv::imread(FramePath(o.output, 1, "left").string(), cv::IMREAD_COLOR), grey, cv::COLOR_BGR2GRAY);
+  int largest_step = 0;
+  for (int u = 1; u < grey.cols; ++u)
+    largest_step = std::max(largest_step, std::abs(grey.at<uint8_t>(700, u) - grey.at<uint8_t>(700, u - 1)));
+  EXPECT_LE(largest_step, 1);
+}
+
 // Clouds: below the horizon every ray meets the deck top (id 5) at its depth.
 TEST(Background, CloudDeckHasItsIdAndDepth) {
   TempDir dir("background-clouds");
