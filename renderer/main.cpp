@@ -16,6 +16,7 @@
 
 #include "aar/error.h"
 #include "aar/flight_path.h"
+#include "aar/renderer/background.h"
 #include "aar/renderer/dataset_writer.h"
 #include "aar/renderer/stereo_render_job.h"
 #include "aar/renderer/vulkan_context.h"
@@ -63,7 +64,29 @@ struct JobFlags {
   aar::RenderJobOptions job;
   std::string frames;
   std::string shard;
+  std::string background = aar::BackgroundName(aar::BackgroundOptions{}.kind);
 };
+
+// The background flags of `render` (and `bench`); the defaults are BackgroundOptions'.
+void AddBackgroundFlags(CLI::App& cmd, JobFlags& f, bool kind) {
+  aar::BackgroundOptions& b = f.job.background;
+  if (kind) {
+    cmd.add_option("--background", f.background,
+                   "behind the receiver: flat (uniform sky, the thesis's), sky (horizon, sky gradient, plain hazy "
+                   "ground), terrain (procedural fields, roads, water), clouds (an overcast deck)")
+        ->capture_default_str();
+  }
+  cmd.add_option("--altitude", b.altitude_m, "tanker altitude above the ground [m] (sky, terrain, clouds)")
+      ->capture_default_str();
+  cmd.add_option("--cloud-top", b.cloud_top_m, "cloud deck top above the ground [m] (clouds)")->capture_default_str();
+  cmd.add_option("--tanker-roll", b.tanker_roll_deg, "tanker roll [deg], frames.md conventions (moves the horizon)")
+      ->capture_default_str();
+  cmd.add_option("--tanker-pitch", b.tanker_pitch_deg, "tanker pitch [deg], positive nose down (moves the horizon)")
+      ->capture_default_str();
+  cmd.add_option("--visibility", b.visibility_m, "sea-level visibility of the haze [m] (2 % contrast)")
+      ->capture_default_str();
+  cmd.add_option("--background-seed", b.seed, "seed of the terrain and cloud textures")->capture_default_str();
+}
 
 void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
   cmd.add_option("--rig", f.job.rig, "camera rig JSON")->capture_default_str();
@@ -84,6 +107,7 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
     cmd.add_flag("--depth", f.job.depth,
                  "also write left-camera ground-truth depth (EXR, metres), object ids and receiver silhouette");
     cmd.add_flag("--depth-right", f.job.depth_right, "also write the same for the right camera (implies --depth)");
+    AddBackgroundFlags(cmd, f, true);
   }
   cmd.add_option("--msaa", f.job.msaa, "samples per pixel: 1, 4, 8, 16 or 32 (composed when not native)")
       ->capture_default_str();
@@ -125,6 +149,7 @@ int RunJob(int argc, char** argv, bool calib) {
   AddJobFlags(app, flags, calib);
   CLI11_PARSE(app, argc, argv);
   flags.job.selection = aar::ParseFrameSelection(flags.frames, flags.shard);
+  flags.job.background.kind = aar::ParseBackgroundKind(flags.background);
   const aar::RenderJobResult result =
       calib ? aar::RenderCalibrationJob(flags.job) : aar::RenderFlightPathJob(flags.job);
   Report(result, flags.job.output);
@@ -172,7 +197,15 @@ int RunBench(int argc, char** argv) {
   app.add_option("--pairs", pairs, "pairs per level (the last ones of the flight path: receiver largest)")
       ->capture_default_str();
   AddJobFlags(app, flags, false);
+  // Backgrounds to compare, each level timed with each in turn (noise drifts slowly).
+  app.remove_option(app.get_option("--background"));
+  std::vector<std::string> backgrounds = {"flat"};
+  app.add_option("--backgrounds", backgrounds, "backgrounds to time side by side (flat, sky, terrain, clouds)")
+      ->delimiter(',')
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  std::vector<aar::BackgroundKind> kinds;
+  for (const std::string& name : backgrounds) kinds.push_back(aar::ParseBackgroundKind(name));
 
   aar::RenderJobOptions job = flags.job;
   const size_t count = aar::ReadFlightPath(job.flight_path).size();
@@ -180,19 +213,22 @@ int RunBench(int argc, char** argv) {
   job.progress = false;
   const std::filesystem::path root =
       std::filesystem::temp_directory_path() / ("aar-render-bench-" + std::to_string(::getpid()));
-  std::printf("| MSAA | method | pairs | render ms | readback ms | encode ms | write ms | pairs/s |\n");
-  std::printf("|---|---|---|---|---|---|---|---|\n");
+  std::printf("| MSAA | background | method | pairs | render ms | readback ms | encode ms | write ms | pairs/s |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|\n");
   for (int level : levels) {
-    job.msaa = level;
-    job.output = root / ("x" + std::to_string(level));
-    std::filesystem::remove_all(job.output);
-    const aar::RenderJobResult r = aar::RenderFlightPathJob(job);
-    const double n = static_cast<double>(r.rendered);
-    const double total = r.times.render_ms + r.times.readback_ms + r.times.encode_ms + r.times.write_ms;
-    std::printf("| x%d | %s | %zu | %.1f | %.1f | %.1f | %.1f | %.2f |\n", level, r.msaa_method.c_str(), r.rendered,
-                r.times.render_ms / n, r.times.readback_ms / n, r.times.encode_ms / n, r.times.write_ms / n,
-                1000.0 * n / total);
-    std::fflush(stdout);
+    for (aar::BackgroundKind kind : kinds) {
+      job.msaa = level;
+      job.background.kind = kind;
+      job.output = root / ("x" + std::to_string(level) + "-" + aar::BackgroundName(kind));
+      std::filesystem::remove_all(job.output);
+      const aar::RenderJobResult r = aar::RenderFlightPathJob(job);
+      const double n = static_cast<double>(r.rendered);
+      const double total = r.times.render_ms + r.times.readback_ms + r.times.encode_ms + r.times.write_ms;
+      std::printf("| x%d | %s | %s | %zu | %.1f | %.1f | %.1f | %.1f | %.2f |\n", level, aar::BackgroundName(kind),
+                  r.msaa_method.c_str(), r.rendered, r.times.render_ms / n, r.times.readback_ms / n,
+                  r.times.encode_ms / n, r.times.write_ms / n, 1000.0 * n / total);
+      std::fflush(stdout);
+    }
   }
   std::filesystem::remove_all(root);
   return 0;

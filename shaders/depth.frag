@@ -1,6 +1,7 @@
 #version 450
 // Ground-truth pass (one sample, never anti-aliased): depth along the optical
-// axis in metres and the object id (1 receiver, 2 tanker, 3 board).
+// axis in metres and the object id (1 receiver, 2 tanker, 3 board; the
+// background, 4 and 5, comes from background.frag).
 
 layout(location = 0) in vec3 in_normal_in_tanker;
 layout(location = 1) in vec2 in_uv;

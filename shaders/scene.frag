@@ -16,8 +16,13 @@ layout(set = 0, binding = 0) uniform sampler2D base_color_texture;
 
 layout(location = 0) out vec4 out_color;
 
-// Sun above, ahead and to the left of the tanker (tanker frame), plus sky light.
-const vec3 kSunDirection = normalize(vec3(0.35, 0.45, 0.82));
+// The sun (unit vector, tanker frame), set per pipeline from
+// background.h's SunInLevel() and the tanker's attitude; the defaults are
+// the level tanker's: above, ahead and to the left. Plus sky light.
+layout(constant_id = 0) const float kSunX = 0.35045588;
+layout(constant_id = 1) const float kSunY = 0.45058614;
+layout(constant_id = 2) const float kSunZ = 0.82106811;
+const vec3 kSunDirection = vec3(kSunX, kSunY, kSunZ);
 const float kSunIntensity = 0.75;
 const float kAmbient = 0.35;
 

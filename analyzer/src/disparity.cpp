@@ -47,6 +47,7 @@ void DisparityOptions::Check() const {
   if (uniqueness_ratio < 0) fail("uniqueness_ratio must be non-negative");
   if (speckle_window_size < 0) fail("speckle_window_size must be non-negative");
   if (!(speckle_range_px >= 0)) fail("speckle_range_px must be non-negative");
+  if (std::isnan(background_disparity_px)) fail("background_disparity_px must be a number");
   if (sgbm_p1 < 0 || sgbm_p2 <= sgbm_p1) fail("SGBM needs 0 <= p1 < p2");
 }
 
@@ -104,6 +105,10 @@ DisparityMap ComputeDisparity(const cv::Mat& rect_left_gray, const cv::Mat& rect
   map.invalid_value16 = options.InvalidValue16();
   MakeMatcher(options)->compute(rect_left_gray, rect_right_gray, map.disparity16);
   CV_Assert(map.disparity16.type() == CV_16SC1);
+  if (options.background_disparity_px >= 0.0) {
+    const int background16 = static_cast<int>(std::floor(options.background_disparity_px * 16.0));
+    map.disparity16.setTo(map.invalid_value16, map.disparity16 <= background16);
+  }
   if (options.speckle_window_size > 0) {
     // Thesis 3.4: OpenCV's speckle filter, maxDiff in the map's 1/16 px units.
     const double max_diff16 = std::round(options.speckle_range_px * 16.0);

@@ -95,6 +95,8 @@ FrameAnalysisOptions FrameAnalysisOptions::ForPreset(Preset preset) {
     o.refine_subpixel = false;
     o.reprojection.target_points = 0;
     o.reprojection.keep_one_in = 8;
+    o.disparity.background_disparity_px = -1.0;  // the thesis keeps every disparity ...
+    o.reprojection.max_depth_over_median = 0.0;  // ... and every point up to 750 m
     o.registration = Registration::kPointToPoint;
     o.icp.correspondence = IcpCorrespondence::kModelToSensed;
     o.icp.max_iterations = 30;

@@ -29,15 +29,41 @@ SensedCloud Reproject(const cv::Mat& disparity16, int invalid_value16, const Ste
   left_from_rect_left.linear() = r1.transpose();
   const Eigen::Isometry3d tanker_from_rect_left = tanker_from_left * left_from_rect_left;
 
-  size_t step = options.keep_one_in;
-  if (options.target_points > 0) {
-    const size_t valid = static_cast<size_t>(cv::countNonZero(disparity16 > invalid_value16));
-    step = std::max(step, valid / options.target_points);
+  const auto point_at = [&](int u, int v, double d) {
+    const Eigen::Vector4d h = q * Eigen::Vector4d(u, v, d, 1.0);  // thesis eq. 1
+    return Eigen::Vector3d(h.head<3>() / h.w());
+  };
+  const double min_z = options.min_depth_m;
+  double max_z = options.max_depth_m;
+  const auto in_range = [&](const Eigen::Vector3d& p) { return p.allFinite() && p.z() > min_z && !(p.z() > max_z); };
+
+  // Depths of the points that pass the depth filter: for the median gate and
+  // the target_points step (which counts only these: a textured background
+  // kilometres away has valid disparities too, and counting them would thin
+  // the receiver's cloud out).
+  std::vector<double> depths;
+  if (options.target_points > 0 || options.max_depth_over_median > 0.0) {
+    for (int row_index = 0; row_index < disparity16.rows; ++row_index) {
+      const short* row = disparity16.ptr<short>(row_index);
+      for (int column = 0; column < disparity16.cols; ++column) {
+        if (row[column] <= invalid_value16) continue;
+        const double d = row[column] / 16.0 - options.disparity_offset_px;
+        const Eigen::Vector3d p = point_at(column + origin.x, row_index + origin.y, d);
+        if (in_range(p)) depths.push_back(p.z());
+      }
+    }
   }
+  size_t in_gate = depths.size();
+  if (options.max_depth_over_median > 0.0 && !depths.empty()) {
+    std::vector<double> sorted = depths;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    max_z = std::min(max_z, options.max_depth_over_median * sorted[sorted.size() / 2]);
+    in_gate = static_cast<size_t>(std::count_if(depths.begin(), depths.end(), [&](double z) { return !(z > max_z); }));
+  }
+  size_t step = options.keep_one_in;
+  if (options.target_points > 0) step = std::max(step, in_gate / options.target_points);
 
   SensedCloud cloud;
-  const double min_z = options.min_depth_m, max_z = options.max_depth_m;
-  const auto in_range = [&](const Eigen::Vector3d& p) { return p.allFinite() && p.z() > min_z && !(p.z() > max_z); };
   for (int row_index = 0; row_index < disparity16.rows; ++row_index) {
     const short* row = disparity16.ptr<short>(row_index);
     const int v = row_index + origin.y;
@@ -45,8 +71,7 @@ SensedCloud Reproject(const cv::Mat& disparity16, int invalid_value16, const Ste
       if (row[column] <= invalid_value16) continue;
       const int u = column + origin.x;
       const double d = row[column] / 16.0 - options.disparity_offset_px;
-      const Eigen::Vector4d h = q * Eigen::Vector4d(u, v, d, 1.0);  // thesis eq. 1
-      Eigen::Vector3d point_in_rect_left = h.head<3>() / h.w();
+      Eigen::Vector3d point_in_rect_left = point_at(u, v, d);
       if (!in_range(point_in_rect_left)) continue;
       if (cloud.valid_count++ % step != 0) continue;
       Eigen::Vector3d pixel(u, v, d);

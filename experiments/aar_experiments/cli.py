@@ -31,6 +31,13 @@ def parse_args(argv, registered):
     common.add_argument("--no-snapshot", action="store_true",
                         help="run the tools in --build itself instead of copies made at the start "
                              "(OUT/tools/), which keep a rebuild during the run out of the results")
+    common.add_argument("--background", default="flat", choices=("flat", "sky", "terrain", "clouds"),
+                        help="conops only: what is behind the receiver (aar-render render --background); other "
+                             "than flat, the path is rendered with depth truth into conops-x16-BACKGROUND and the "
+                             "report adds the sensed cloud against the truth (default: flat, the thesis's sky)")
+    common.add_argument("--shard", metavar="K/N",
+                        help="conops only: render and analyze the frames i with i %% N == K (a subset spread "
+                             "over the whole path) instead of every frame")
     common.add_argument("--quick", action="store_true",
                         help="a few frames per region or range bin (smoke test, a few minutes for `all`)")
     parser = argparse.ArgumentParser(

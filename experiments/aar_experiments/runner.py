@@ -92,7 +92,10 @@ class Ctx:
         self.datasets = Path(args.datasets).resolve()
         self.out = Path(out).resolve()
         self.quick = args.quick
+        self.background = getattr(args, "background", "flat")
         self.sel = SELECTIONS["quick" if args.quick else "full"]
+        if getattr(args, "shard", None):
+            self.sel = dict(self.sel, conops=("shard", args.shard))
         self.memo = memo            # shared across experiments of one `all`
         self.commands = []          # (step, command line, seconds or None when reused)
         self.datasets_used = {}     # name -> path
@@ -177,8 +180,8 @@ def render_calib(ctx, dataset, msaa):
             [ctx.render, "calib", dataset, "--msaa", msaa], dataset)
 
 
-def render_frames(ctx, dataset, msaa, flight_path, selection):
-    argv = [ctx.render, "render", dataset, "--msaa", msaa, "--flight-path", flight_path]
+def render_frames(ctx, dataset, msaa, flight_path, selection, extra=()):
+    argv = [ctx.render, "render", dataset, "--msaa", msaa, "--flight-path", flight_path, *extra]
     _render(ctx, f"render {flight_path} into {dataset.name} (x{msaa}, {selection_text(selection)})",
             argv + selection_args(selection), dataset)
 

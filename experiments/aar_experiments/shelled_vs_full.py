@@ -52,12 +52,13 @@ def frames_per_region(dataset, selection):
     return {g: f[len(f) // 2] for g, f in sorted(by_region.items()) if g != "none"}
 
 
-def render_and_analyze(ctx, dataset_name, flight_path, selection):
-    """Renders `flight_path` and its boards at x16 into `dataset_name`; four analyses (models x pairings).
-    The shelled run with the default pairing also dumps one frame per region (`--dump-frames`)."""
+def render_and_analyze(ctx, dataset_name, flight_path, selection, render_extra=()):
+    """Renders `flight_path` (with `render_extra` flags) and its boards at x16 into `dataset_name`; four
+    analyses (models x pairings). The shelled run with the default pairing also dumps one frame per region
+    (`--dump-frames`)."""
     ds = ctx.dataset(dataset_name)
     render_calib(ctx, ds, 16)
-    render_frames(ctx, ds, 16, flight_path, selection)
+    render_frames(ctx, ds, 16, flight_path, selection, render_extra)
     overlay_frames = frames_per_region(ds, selection)
     dump = ("--dump-frames", ",".join(str(f) for f in sorted(overlay_frames.values()))) if overlay_frames else ()
     runs = {m: analyze(ctx, f"{dataset_name}-{m}", ds, m, selection, extra=dump if m == "shelled" else ())

@@ -7,11 +7,16 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
+#include <optional>
 
 #include "aar/error.h"
+#include "aar/renderer/background_texture.h"
 #include "aar/renderer/pipeline_builder.h"
 #include "aar/renderer/projection.h"
 #include "aar/renderer/render_target.h"
+#include "spirv/background_frag.h"
+#include "spirv/background_truth_frag.h"
+#include "spirv/background_vert.h"
 #include "spirv/depth_frag.h"
 #include "spirv/scene_frag.h"
 #include "spirv/scene_vert.h"
@@ -41,6 +46,14 @@ double MillisecondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+// The push-constant block of shaders/background.frag, member for member.
+struct SceneRenderer::BackgroundPush {
+  glm::vec4 level_from_pixel_rows[3];  // xyz: rows; w: camera level x, y [m], height above the ground [m]
+  glm::vec4 sun_in_level;              // xyz; w: sea-level haze extinction [1/m]
+  glm::vec4 surface;                   // sin^2 dip, h (2R + h) / (R + h) [m], surface height [m], haze scale height [m]
+  glm::vec4 texture_map;               // 1 / tile size [1/m], 0, 0, kind (1 sky, 2 terrain, 3 clouds)
+};
+
 struct SceneRenderer::GpuModel {
   struct Draw {
     uint32_t first_index = 0;
@@ -60,6 +73,7 @@ struct SceneRenderer::Target {
       : frame(context, width, height, samples, color_format), device(context.device()) {}
   ~Target() {
     if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
+    if (background_pipeline) vkDestroyPipeline(device, background_pipeline, nullptr);
   }
   Target(const Target&) = delete;
   Target& operator=(const Target&) = delete;
@@ -67,7 +81,8 @@ struct SceneRenderer::Target {
   RenderTarget frame;
   VkDevice device = VK_NULL_HANDLE;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  std::array<float, 3> background{};  // a resolved sky pixel as this target produces it
+  VkPipeline background_pipeline = VK_NULL_HANDLE;  // with a background
+  std::array<float, 3> background{};                // a resolved sky pixel as this target produces it
 };
 
 SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, const SceneRendererOptions& options)
@@ -118,13 +133,28 @@ SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, cons
 
   // Texture set 0: 1x1 white, for primitives without a base colour texture.
   UploadTexture(BuildMips({255, 255, 255, 255}, 1, 1));
+
+  const BackgroundOptions& bg = options_.background;
+  bg.Check();
+  const Eigen::Vector3f sun = (LevelFromTanker(bg).transpose() * SunInLevel()).cast<float>();
+  sun_in_tanker_ = {sun.x(), sun.y(), sun.z()};
+  if (bg.enabled()) {
+    background_vert_ = CreateShaderModule(device, kSpirv_background_vert, sizeof(kSpirv_background_vert));
+    background_frag_ = CreateShaderModule(device, kSpirv_background_frag, sizeof(kSpirv_background_frag));
+    background_truth_frag_ =
+        CreateShaderModule(device, kSpirv_background_truth_frag, sizeof(kSpirv_background_truth_frag));
+    if (bg.kind == BackgroundKind::kTerrain || bg.kind == BackgroundKind::kClouds) {
+      background_texture_set_ = static_cast<int>(texture_sets_.size());
+      UploadTexture(bg.kind == BackgroundKind::kTerrain ? TerrainTexture(bg.seed) : CloudTexture(bg.seed));
+    }
+  }
 }
 
 SceneRenderer::~SceneRenderer() {
   VkDevice device = context_.device();
   vkDeviceWaitIdle(device);
   targets_.clear();
-  for (VkShaderModule m : {vert_, frag_, depth_frag_}) {
+  for (VkShaderModule m : {vert_, frag_, depth_frag_, background_vert_, background_frag_, background_truth_frag_}) {
     if (m) vkDestroyShaderModule(device, m, nullptr);
   }
   if (sampler_) vkDestroySampler(device, sampler_, nullptr);
@@ -233,14 +263,26 @@ SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) 
   builder.samples = static_cast<VkSampleCountFlagBits>(samples);
   builder.width = w;
   builder.height = h;
+  const VkSpecializationMapEntry sun_entries[3] = {
+      {0, 0, sizeof(float)}, {1, sizeof(float), sizeof(float)}, {2, 2 * sizeof(float), sizeof(float)}};
+  const VkSpecializationInfo sun{3, sun_entries, sizeof(sun_in_tanker_), sun_in_tanker_.data()};
+  if (!ground_truth) builder.fragment_specialization = &sun;
   t->pipeline = builder.Build(t->device, t->frame.render_pass());
+  if (options_.background.enabled()) {
+    PipelineBuilder background = builder;
+    background.vertex_shader = background_vert_;
+    background.fragment_shader = ground_truth ? background_truth_frag_ : background_frag_;
+    background.scene_geometry = false;
+    background.fragment_specialization = nullptr;
+    t->background_pipeline = background.Build(t->device, t->frame.render_pass());
+  }
   slot = std::move(t);
   if (!ground_truth) {
     // Sky pixels outside the render area are filled with this value, read
     // back from a 1x1 render of nothing, so they equal rendered sky exactly.
     const PixelRect corner{0, 0, 1, 1};
     context_.SubmitAndWait(
-        [&](VkCommandBuffer cmd) { Record(cmd, *slot, Eigen::Matrix4d::Identity(), {}, false, corner); });
+        [&](VkCommandBuffer cmd) { Record(cmd, *slot, Eigen::Matrix4d::Identity(), {}, false, corner, nullptr); });
     ReadBack(*slot, corner);
     const auto* half = static_cast<const Eigen::half*>(readback_.mapped());
     for (int c = 0; c < 3; ++c) slot->background[c] = static_cast<float>(half[c]);
@@ -248,8 +290,34 @@ SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) 
   return *slot;
 }
 
+SceneRenderer::BackgroundPush SceneRenderer::BackgroundFor(const Camera& camera) const {
+  static_assert(sizeof(BackgroundPush) == 96, "must match background.frag's block");
+  const BackgroundOptions& bg = options_.background;
+  const Eigen::Matrix3d level_from_pixel = LevelFromPixel(camera, bg);
+  const Eigen::Vector3d camera_above_ground = CameraAboveGround(camera, bg);
+  BackgroundPush push{};
+  for (int row = 0; row < 3; ++row) {
+    push.level_from_pixel_rows[row] = glm::vec4(level_from_pixel(row, 0), level_from_pixel(row, 1),
+                                                level_from_pixel(row, 2), camera_above_ground[row]);
+  }
+  const Eigen::Vector3d sun = SunInLevel();
+  push.sun_in_level = glm::vec4(sun.x(), sun.y(), sun.z(), 3.912 / bg.visibility_m);
+  // The surface the rays meet: the ground, or the top of the cloud deck.
+  const double surface_m = bg.kind == BackgroundKind::kClouds ? bg.cloud_top_m : 0.0;
+  const double h = camera_above_ground.z() - surface_m;
+  const double r = kEarthRadiusM + surface_m;
+  push.surface = glm::vec4(h * (2.0 * r + h) / ((r + h) * (r + h)), h * (2.0 * r + h) / (r + h), surface_m,
+                           bg.haze_scale_height_m);
+  const bool clouds = bg.kind == BackgroundKind::kClouds;
+  const double tile_m = clouds ? kCloudTextureSize * bg.cloud_texel_m : kTerrainTextureSize * bg.ground_texel_m;
+  const float kind = bg.kind == BackgroundKind::kSky ? 1.0f : clouds ? 3.0f : 2.0f;
+  push.texture_map = glm::vec4(1.0 / tile_m, 0.0f, 0.0f, kind);
+  return push;
+}
+
 void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Matrix4d& clip_from_tanker,
-                           const std::vector<RenderItem>& items, bool ground_truth, const PixelRect& area) {
+                           const std::vector<RenderItem>& items, bool ground_truth, const PixelRect& area,
+                           const BackgroundPush* background) {
   VkClearValue clears[2]{};
   if (ground_truth) {
     clears[0].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
@@ -264,6 +332,15 @@ void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Mat
   begin.clearValueCount = 2;
   begin.pClearValues = clears;
   vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+  if (background) {
+    // Behind everything: no depth test or write, the aircraft draw over it.
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, target.background_pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_layout_, 0, 1,
+                            &texture_sets_[background_texture_set_], 0, nullptr);
+    vkCmdPushConstants(cmd, pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                       sizeof(BackgroundPush), background);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+  }
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, target.pipeline);
   for (const RenderItem& item : items) {
     if (item.model < 0 || item.model >= static_cast<int>(models_.size())) throw Error("render item: bad model index");
@@ -333,15 +410,36 @@ LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, cons
   out.rgb.resize(static_cast<size_t>(width_) * height_ * 3);
   for (size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = target.background[i % 3];
   const Eigen::Matrix4d cam_from_tanker = camera.tanker_from_camera.inverse().matrix();
-  // Only the rectangle that can hold geometry is rendered; the rest is sky.
+  // Only the rectangle that can hold geometry is rendered with MSAA; the rest is sky or background.
   const PixelRect area = RenderArea(ClipFromCamera(camera.intrinsics, near_m) * cam_from_tanker, items);
+  std::optional<BackgroundPush> background;
+  if (options_.background.enabled()) background = BackgroundFor(camera);
+  if (background && (area.width() < width_ || area.height() < height_)) {
+    // The whole frame's background in one single-sample pass; the shader
+    // evaluates it at the pixel centres without jitter, as the MSAA passes do.
+    auto start = std::chrono::steady_clock::now();
+    Target& single = TargetFor(1, false);
+    const PixelRect full{0, 0, width_, height_};
+    context_.SubmitAndWait(
+        [&](VkCommandBuffer cmd) { Record(cmd, single, Eigen::Matrix4d::Identity(), {}, false, full, &*background); });
+    if (timings) timings->render_ms += MillisecondsSince(start);
+    start = std::chrono::steady_clock::now();
+    ReadBack(single, full);
+    const auto* half = static_cast<const Eigen::half*>(readback_.mapped());
+    for (size_t i = 0; i < out.rgb.size() / 3; ++i) {
+      for (int c = 0; c < 3; ++c) out.rgb[i * 3 + c] = static_cast<float>(half[i * 4 + c]);
+    }
+    if (timings) timings->readback_ms += MillisecondsSince(start);
+  }
   std::vector<float> sum(static_cast<size_t>(area.width()) * area.height() * 3, 0.0f);
   const float weight = 1.0f / static_cast<float>(plan.passes);
   for (const Vec2& jitter : plan.offsets_px) {
     auto start = std::chrono::steady_clock::now();
     const Eigen::Matrix4d clip_from_tanker =
         ClipFromCamera(camera.intrinsics, near_m, jitter.x, jitter.y) * cam_from_tanker;
-    context_.SubmitAndWait([&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, items, false, area); });
+    context_.SubmitAndWait([&](VkCommandBuffer cmd) {
+      Record(cmd, target, clip_from_tanker, items, false, area, background ? &*background : nullptr);
+    });
     if (timings) timings->render_ms += MillisecondsSince(start);
     start = std::chrono::steady_clock::now();
     ReadBack(target, area);
@@ -364,7 +462,11 @@ GroundTruthImage SceneRenderer::RenderGroundTruth(const Camera& camera, double n
   const Eigen::Matrix4d clip_from_tanker =
       ClipFromCamera(camera.intrinsics, near_m) * camera.tanker_from_camera.inverse().matrix();
   const PixelRect full{0, 0, width_, height_};
-  context_.SubmitAndWait([&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, items, true, full); });
+  std::optional<BackgroundPush> background;
+  if (options_.background.enabled()) background = BackgroundFor(camera);
+  context_.SubmitAndWait([&](VkCommandBuffer cmd) {
+    Record(cmd, target, clip_from_tanker, items, true, full, background ? &*background : nullptr);
+  });
   ReadBack(target, full);
   GroundTruthImage out;
   out.width = width_;

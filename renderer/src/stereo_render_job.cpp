@@ -124,7 +124,7 @@ nlohmann::json LensJson(const Session& s) {
           {"truth_resampling", "nearest pinhole sample (depth, object ids, silhouette never blended)"}};
 }
 
-Session OpenSession(const RenderJobOptions& options, const StereoRig& rig) {
+Session OpenSession(const RenderJobOptions& options, const StereoRig& rig, const BackgroundOptions& background) {
   Session s;
   s.rig = rig;
   VulkanContextOptions vk;
@@ -133,6 +133,7 @@ Session OpenSession(const RenderJobOptions& options, const StereoRig& rig) {
   s.plan = PlanMsaa(options.msaa, s.context->info().color_sample_counts);
   SceneRendererOptions render_options;
   render_options.max_anisotropy = options.anisotropy;
+  render_options.background = background;
   OpenLenses(s);
   const Intrinsics& size = s.RenderCamera("left").intrinsics;
   s.renderer = std::make_unique<SceneRenderer>(*s.context, size.width_px, size.height_px, render_options);
@@ -262,6 +263,10 @@ void RenderJobOptions::Check() const {
   if (!(anisotropy >= 1.0f && anisotropy <= 16.0f)) {
     throw Error("--anisotropy " + std::to_string(anisotropy) + ": expected 1 (trilinear) to 16");
   }
+  background.Check();
+  if (!background.enabled() && (background.tanker_roll_deg != 0.0 || background.tanker_pitch_deg != 0.0)) {
+    throw Error("--tanker-roll/--tanker-pitch: the flat sky has no horizon; use --background sky, terrain or clouds");
+  }
 }
 
 RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
@@ -273,7 +278,7 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   const SceneModel receiver = LoadSceneModel(options.receiver_model);
   const SceneModel tanker = LoadSceneModel(options.tanker_model);
   CheckOutputFolder(options.output);
-  Session session = OpenSession(options, rig);
+  Session session = OpenSession(options, rig, options.background);
   const int receiver_index = session.renderer->AddModel(receiver);
   const int tanker_index = session.renderer->AddModel(tanker);
   const std::vector<Eigen::Vector3d> receiver_points = receiver.AllPositions();
@@ -293,6 +298,8 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
                       {"depth", options.depth || options.depth_right},
                       {"depth_right", options.depth_right},
                       {"texture_anisotropy", options.anisotropy}};
+  // Absent for the flat sky, so datasets made before backgrounds existed still match.
+  if (options.background.enabled()) header["frames"]["background"] = BackgroundJson(options.background);
   OpenManifest(options.output, header, [&] {
     CopyInput(options.output, options.rig, kRigName, rig_hash);
     CopyInput(options.output, options.receiver_model, kReceiverModelName, receiver_hash);
@@ -329,7 +336,7 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   const std::vector<Pose> poses = CalibrationBoardPoses(rig, pose_options);
   options.selection.CheckWithin(poses.size(), "calibration board poses");
   CheckOutputFolder(options.output);
-  Session session = OpenSession(options, rig);
+  Session session = OpenSession(options, rig, BackgroundOptions{});
   const int board_index = session.renderer->AddModel(board);
   const std::vector<Eigen::Vector3d> board_points = board.AllPositions();
   const BoardSpec spec;

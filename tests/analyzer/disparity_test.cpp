@@ -127,6 +127,22 @@ TEST(Disparity, SpeckleFilterRemovesSmallInconsistentRegions) {
   EXPECT_GT(cv::countNonZero(clean.disparity16(surface) > clean.invalid_value16), surface.area() * 9 / 10);
 }
 
+// A textured background at zero disparity (terrain kilometres away): valid
+// matches everywhere, until background_disparity_px marks them invalid.
+TEST(Disparity, BackgroundDisparityMarksFarTextureInvalid) {
+  constexpr int kWidth = 320, kHeight = 240;
+  cv::Mat left, right;
+  TexturedPair(kWidth, kHeight, 0.0, 99, left, right);
+  DisparityOptions options;
+  const int first = options.num_disparities + options.block_size;
+  size_t valid = 0;
+  EXPECT_NEAR(MedianDisparity(ComputeDisparity(left, right, options), first, &valid), 0.0, 0.1);
+  EXPECT_GT(valid, static_cast<size_t>(kWidth - first) * kHeight * 8 / 10);
+  options.background_disparity_px = 0.5;
+  MedianDisparity(ComputeDisparity(left, right, options), first, &valid);
+  EXPECT_LT(valid, 100u);
+}
+
 TEST(Disparity, RejectsBadOptionsAndInputs) {
   cv::Mat left(64, 96, CV_8U, cv::Scalar(0)), right = left.clone();
   DisparityOptions options;

@@ -123,6 +123,39 @@ TEST(Reprojection, DropsInvalidBehindAndBeyondMaxDepthThenKeepsOneInEight) {
   EXPECT_THROW(Reproject(disparity, kInvalid16, c, Eigen::Isometry3d::Identity(), bad), Error);
 }
 
+// A receiver patch in front of a textured background whose valid disparities
+// lie beyond max_depth_m (terrain at kilometres): the target_points step
+// counts only the patch, so it keeps about target_points points.
+TEST(Reprojection, TargetPointsStepIgnoresBackgroundBeyondMaxDepth) {
+  const StereoRig rig = TestRig();
+  const StereoCalibration c = IdealCalibration(rig);
+  cv::Mat disparity(kHeight, kWidth, CV_16S, cv::Scalar(4));   // 0.25 px: 1.8 km, beyond 750 m
+  disparity(cv::Rect(40, 30, 80, 60)).setTo(cv::Scalar(200));  // 12.5 px: 36 m, 4,800 pixels
+  ReprojectionOptions options = PlainOptions();
+  options.keep_one_in = 1;
+  options.target_points = 1200;
+  const SensedCloud cloud = Reproject(disparity, kInvalid16, c, rig.left.tanker_from_camera, options);
+  EXPECT_EQ(cloud.valid_count, 4800u);
+  EXPECT_EQ(cloud.kept_count, 1200u);  // step 4800 / 1200 = 4, not 19200 / 1200 = 16
+}
+
+// The median gate: a receiver patch at 36 m and wrong background matches at
+// 300 m (1.5 px): with max_depth_over_median 1.5 only the patch is kept.
+TEST(Reprojection, MedianDepthGateDropsFarWrongMatches) {
+  const StereoRig rig = TestRig();
+  const StereoCalibration c = IdealCalibration(rig);
+  cv::Mat disparity(kHeight, kWidth, CV_16S, cv::Scalar(kInvalid16));
+  disparity(cv::Rect(40, 30, 80, 60)).setTo(cv::Scalar(200));  // 12.5 px: 36 m, 4,800 pixels
+  disparity(cv::Rect(0, 0, 30, 30)).setTo(cv::Scalar(24));     // 1.5 px: 300 m, 900 pixels
+  ReprojectionOptions options = PlainOptions();
+  options.keep_one_in = 1;
+  EXPECT_EQ(Reproject(disparity, kInvalid16, c, rig.left.tanker_from_camera, options).kept_count, 5700u);
+  options.max_depth_over_median = 1.5;
+  const SensedCloud cloud = Reproject(disparity, kInvalid16, c, rig.left.tanker_from_camera, options);
+  EXPECT_EQ(cloud.kept_count, 4800u);
+  for (const Eigen::Vector3d& pixel : cloud.pixels) EXPECT_EQ(pixel.z(), 12.5);
+}
+
 TEST(Reprojection, MatchesReprojectImageTo3DAndUndoesRectification) {
   // A calibration with a rotated rectification: point_in_left = R1^T point_in_rect_left.
   StereoCalibration c = IdealCalibration(TestRig());

@@ -110,6 +110,13 @@ INSTANTIATE_TEST_SUITE_P(
                      "path.csv:2: field roll_deg: 'zero' is not a finite number"},
         BadInputCase{"columns", kHeader + "0,-47,0,-19,0,0\n", "", "", "path.csv:2: expected 7 fields, found 6"},
         BadInputCase{"msaa", "", "--msaa 6", "", "unknown MSAA level"},
+        BadInputCase{"background-name", "", "--background forest", "", "--background 'forest': expected flat, sky"},
+        BadInputCase{"altitude-low", "", "--background terrain --altitude 50", "", "--altitude 50.000000: expected"},
+        BadInputCase{"altitude-nan", "", "--background sky --altitude nan", "", "--altitude nan: expected"},
+        BadInputCase{"cloud-above-tanker", "", "--background clouds --altitude 5000 --cloud-top 6000", "",
+                     "--cloud-top 6000.000000: expected 0.000000 to 4900.000000 m"},
+        BadInputCase{"attitude-flat", "", "--tanker-roll 10", "", "the flat sky has no horizon"},
+        BadInputCase{"visibility", "", "--background terrain --visibility 10", "", "--visibility 10.000000"},
         BadInputCase{"no-vulkan", "", "", "VK_ICD_FILENAMES=/nonexistent/icd.json", "no Vulkan device"}),
     [](const ::testing::TestParamInfo<BadInputCase>& info) {
       std::string name = info.param.name;
@@ -149,7 +156,8 @@ TEST(RenderCommandLine, HelpListsSubcommandsAndTheirFlags) {
   EXPECT_EQ(sub.exit_code, 0) << sub.output;
   EXPECT_NE(sub.output.find("Usage: " + render + " render [OPTIONS] output"), std::string::npos) << sub.output;
   for (const char* flag : {"--rig", "--flight-path", "--receiver", "--tanker", "--depth", "--msaa", "--anisotropy",
-                           "--frames", "--shard", "--device", "--no-progress"}) {
+                           "--frames", "--shard", "--device", "--no-progress", "--background", "--altitude",
+                           "--cloud-top", "--tanker-roll", "--tanker-pitch", "--visibility", "--background-seed"}) {
     EXPECT_NE(sub.output.find(flag), std::string::npos) << flag << "\n" << sub.output;
   }
   const test::CommandResult bench = RunCommand(render + " bench --help");

@@ -24,6 +24,15 @@ struct DisparityOptions {
   int texture_threshold = 10;  ///< BM only: minimum summed |x-Sobel| over the window (OpenCV default)
   int uniqueness_ratio =
       15;  ///< best cost must beat the second best (outside +-1 px) by this many percent (OpenCV BM default)
+  /// Pixels whose disparity is at or below this are background beyond the
+  /// stereo range and are marked invalid before the speckle filter, like the
+  /// texture-less sky. Against a textured background (terrain kilometres
+  /// away, true disparity ~0.05 px) the few wrong matches then stand alone
+  /// and the speckle filter removes them, and halo removal sees the same
+  /// invalid border as against the sky. Negative = off (the thesis; the
+  /// default preset uses 0.5 px: 900 m with the default rig's f b = 450 px m,
+  /// beyond the re-projection's 750 m anyway) [px].
+  double background_disparity_px = -1.0;
   /// Speckle filter (thesis 3.4), applied with cv::filterSpeckles after
   /// matching (the matchers' built-in speckle filtering is switched off: BM
   /// takes its range in 1/16 px, SGBM in px, so it is done once here with

@@ -50,7 +50,13 @@ std::string ToString(Preset preset);
 Preset ParsePreset(const std::string& text);
 
 struct FrameAnalysisOptions {
-  DisparityOptions disparity;  ///< thesis 3.4: BM, 48 disparities, block 9, speckle filter
+  /// Thesis 3.4: BM, 48 disparities, block 9, speckle filter; disparities
+  /// <= 0.5 px are background (a textured one: docs/analysis.md).
+  DisparityOptions disparity = [] {
+    DisparityOptions o;
+    o.background_disparity_px = 0.5;
+    return o;
+  }();
   /// Remove the foreground-fattening halo (disparity_cleaning.h); its radius
   /// is set from the block size (block_size / 2) by ForPreset and the CLI.
   bool remove_halo = true;
@@ -63,10 +69,12 @@ struct FrameAnalysisOptions {
   /// pixel locking, and the registration is worse with it (docs/analysis.md).
   bool refine_subpixel = false;
   SubpixelOptions subpixel;
-  /// Re-projection: <= 750 m; about 4000 points (one in eight or more).
+  /// Re-projection: <= 750 m and <= 1.5 times the cloud's median depth;
+  /// about 4000 points (one in eight or more).
   ReprojectionOptions reprojection = [] {
     ReprojectionOptions o;
     o.target_points = 4000;
+    o.max_depth_over_median = 1.5;
     return o;
   }();
   Registration registration = Registration::kPointToPlane;

@@ -22,7 +22,16 @@ struct ReprojectionOptions {
   /// When > 0, the decimation step is raised to floor(valid pixels /
   /// target_points) when that is larger than keep_one_in, so that a near
   /// receiver gives about this many points and a far one keeps all of its few.
+  /// Valid pixels are those that pass the depth filter (a textured background
+  /// beyond max_depth_m does not count).
   size_t target_points = 0;
+  /// When > 0, points deeper than this times the median depth of the points
+  /// that pass the depth filter are dropped as well: a GT-free range gate
+  /// against the wrong matches of a textured background (terrain), which
+  /// otherwise lie hundreds of metres behind a receiver at 32-175 m; the
+  /// receiver's own depth spans a few per cent [ratio]. 0 = off (the thesis;
+  /// the default preset uses 1.5).
+  double max_depth_over_median = 0.0;
   /// Subtracted from every disparity before eq. 1 (and before sub-pixel
   /// refinement, as its starting value) [px]. 0 reproduces the thesis's plain
   /// re-projection; MatcherRoundingBiasPx() is StereoBM's rounding bias.

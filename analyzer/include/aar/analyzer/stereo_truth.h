@@ -25,7 +25,7 @@ namespace aar {
 /// One camera's truth images of one frame.
 struct DepthTruth {
   cv::Mat depth_m;  ///< CV_32F, metres along the camera's optical axis, 0 where no surface
-  cv::Mat ids;      ///< CV_8U object ids: 0 sky, 1 receiver, 2 tanker, 3 board
+  cv::Mat ids;      ///< CV_8U object ids: 0 sky, 1 receiver, 2 tanker, 3 board, 4 ground, 5 cloud deck
 };
 
 /// Reads a depth EXR (channel Y, or Z in older datasets) and its id mask PNG

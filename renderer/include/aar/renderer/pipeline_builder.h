@@ -1,7 +1,8 @@
 #pragma once
 // Graphics pipeline set-up for the scene shaders, vkguide-style: the fixed
 // state the renderer always uses (triangle lists of aar::Vertex, no culling
-// since models are double-sided, reversed depth test, no blending) with the
+// since models are double-sided, reversed depth test, no blending; or the
+// background's full-screen triangle) with the
 // parts that vary per render target as fields, and one Build() call.
 
 #include <vulkan/vulkan.h>
@@ -21,6 +22,10 @@ struct PipelineBuilder {
   VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;  ///< rasterization samples (the target's)
   uint32_t width = 1;                                     ///< viewport and scissor width [px]
   uint32_t height = 1;                                    ///< viewport and scissor height [px]
+  /// false: no vertex buffer and no depth test or write (the background's
+  /// full-screen triangle, drawn first, behind everything).
+  bool scene_geometry = true;
+  const VkSpecializationInfo* fragment_specialization = nullptr;  ///< fragment-shader constants (or none)
 
   /// Creates the pipeline for subpass 0 of `render_pass`; the caller owns it.
   VkPipeline Build(VkDevice device, VkRenderPass render_pass) const;

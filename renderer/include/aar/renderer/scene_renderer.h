@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "aar/renderer/background.h"
 #include "aar/renderer/gpu_resources.h"
 #include "aar/renderer/msaa.h"
 #include "aar/renderer/projection.h"
@@ -49,6 +50,11 @@ struct SceneRendererOptions {
   /// Texture anisotropic filtering cap (the device's limit applies too); 1 =
   /// trilinear only. Costly on lavapipe (x16 anisotropy is 2.5x slower).
   float max_anisotropy = 1.0f;
+  /// What is behind the aircraft; the default (flat) is sky_linear everywhere.
+  /// Otherwise a full-frame single-sample pass draws it, and every MSAA pass
+  /// draws it again behind the aircraft, at the unjittered pixel centres, so
+  /// the two agree exactly outside the aircraft (docs/rendering.md).
+  BackgroundOptions background;
 };
 
 class SceneRenderer {
@@ -70,8 +76,11 @@ class SceneRenderer {
   struct GpuModel;
   void UploadTexture(const TextureMips& mips);
   Target& TargetFor(int samples, bool ground_truth);
+  struct BackgroundPush;
+  BackgroundPush BackgroundFor(const Camera& camera) const;
   void Record(VkCommandBuffer cmd, Target& target, const Eigen::Matrix4d& clip_from_tanker,
-              const std::vector<RenderItem>& items, bool ground_truth, const PixelRect& area);
+              const std::vector<RenderItem>& items, bool ground_truth, const PixelRect& area,
+              const BackgroundPush* background);
   void ReadBack(const Target& target, const PixelRect& area);
   PixelRect RenderArea(const Eigen::Matrix4d& clip_from_tanker, const std::vector<RenderItem>& items) const;
 
@@ -86,6 +95,11 @@ class SceneRenderer {
   VkShaderModule vert_ = VK_NULL_HANDLE;
   VkShaderModule frag_ = VK_NULL_HANDLE;
   VkShaderModule depth_frag_ = VK_NULL_HANDLE;
+  VkShaderModule background_vert_ = VK_NULL_HANDLE;
+  VkShaderModule background_frag_ = VK_NULL_HANDLE;
+  VkShaderModule background_truth_frag_ = VK_NULL_HANDLE;
+  std::array<float, 3> sun_in_tanker_{};  ///< scene.frag's specialization constants
+  int background_texture_set_ = 0;        ///< the terrain or cloud texture (0: none)
   std::vector<std::unique_ptr<GpuModel>> models_;
   std::vector<GpuImage> textures_;
   std::vector<VkDescriptorSet> texture_sets_;  ///< one per texture; [0] is a 1x1 white texture

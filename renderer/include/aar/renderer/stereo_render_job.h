@@ -11,6 +11,7 @@
 
 #include "aar/data_path.h"
 #include "aar/frame_selection.h"
+#include "aar/renderer/background.h"
 
 namespace aar {
 
@@ -27,12 +28,14 @@ struct RenderJobOptions {
   bool depth_right = false;  ///< the same for the right camera (implies `depth`)
   std::vector<double> far_boards_m;  ///< calib job: the twelve board tilts again at each distance [m]
   bool corner_boards = false;        ///< calib job: eight more boards towards the image corners and edges
+  BackgroundOptions background;      ///< render job: behind the receiver (calibration boards keep the flat sky)
   FrameSelection selection;          ///< frames (or calib pairs) to render
   std::string device;                ///< Vulkan device name filter ("" = lavapipe first)
   bool progress = true;              ///< progress line on stderr
 
   /// Throws aar::Error naming the option (its command-line flag) when a value
-  /// is out of range (MSAA level, anisotropy outside [1, 16] or NaN); the jobs
+  /// is out of range (MSAA level, anisotropy outside [1, 16] or NaN, the
+  /// background's values, a tanker attitude with the flat sky); the jobs
   /// call it before reading any input. Input defaults come from data_path.h.
   void Check() const;
 };
