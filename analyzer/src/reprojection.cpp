@@ -55,9 +55,10 @@ SensedCloud Reproject(const cv::Mat& disparity16, int invalid_value16, const Ste
   }
   size_t in_gate = depths.size();
   if (options.max_depth_over_median > 0.0 && !depths.empty()) {
-    std::vector<double> sorted = depths;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-    max_z = std::min(max_z, options.max_depth_over_median * sorted[sorted.size() / 2]);
+    // In place: only the count below uses `depths` afterwards, and it ignores order.
+    const auto middle = depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2);
+    std::nth_element(depths.begin(), middle, depths.end());
+    max_z = std::min(max_z, options.max_depth_over_median * *middle);
     in_gate = static_cast<size_t>(std::count_if(depths.begin(), depths.end(), [&](double z) { return !(z > max_z); }));
   }
   size_t step = options.keep_one_in;
