@@ -3,6 +3,9 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <limits>
+#include <tuple>
 
 #include "aar/analyzer/nearest_cache.h"
 #include "aar/error.h"
@@ -68,16 +71,80 @@ struct NormalEquations {
   }
 };
 
+// The sensed-to-surface search of kMahalanobis. A point's stereo noise is
+// isotropic in the left camera's scaled disparity space
+//   (f x / z / sigma_px, f y / z / sigma_px, f b / z / sigma_d)
+// (image position and disparity, each over its noise; a depth error is a
+// disparity error, a lateral one an image-position error), so Euclidean
+// nearest neighbours there are nearest in the noise metric with each point's
+// own ray. The tree holds the surface points facing the camera, mapped with
+// the camera placed where the estimate at build time puts it; later
+// estimates move the sensed points against that frozen camera, which changes
+// their rays by the small difference between the two poses.
+struct MetricSearch {
+  Eigen::Isometry3d camera_from_tanker = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d camera_from_receiver = Eigen::Isometry3d::Identity();  // at build time
+  double lateral_scale = 1.0;                                              // f / sigma_px
+  double disparity_scale = 1.0;                                            // f b / sigma_d
+  std::vector<uint32_t> index;                                             // search-tree point -> surface point
+  std::unique_ptr<KdTree3d> tree;
+
+  // The search-space point of `in_receiver`; false behind the camera.
+  bool Map(const Eigen::Vector3d& in_receiver, Eigen::Vector3d& out) const {
+    const Eigen::Vector3d c = camera_from_receiver * in_receiver;
+    if (!(c.z() > 0.0)) return false;
+    out = Eigen::Vector3d(lateral_scale * c.x() / c.z(), lateral_scale * c.y() / c.z(), disparity_scale / c.z());
+    return true;
+  }
+};
+
+MetricSearch BuildMetricSearch(const std::vector<Eigen::Vector3d>& surface,
+                               const std::vector<Eigen::Vector3d>& surface_normals, const StereoNoiseGeometry& g,
+                               const PlaneIcpOptions& o, const Eigen::Isometry3d& tanker_from_receiver) {
+  MetricSearch search;
+  // Camera axes: z the optical axis; x and y any orthonormal pair (the metric is symmetric about z).
+  const Eigen::Vector3d z = g.optical_axis_in_tanker.normalized();
+  const Eigen::Vector3d x = z.unitOrthogonal();
+  Eigen::Matrix3d tanker_from_camera;
+  tanker_from_camera << x, z.cross(x), z;
+  search.camera_from_tanker.linear() = tanker_from_camera.transpose();
+  search.camera_from_tanker.translation() = -tanker_from_camera.transpose() * g.camera_centre_in_tanker;
+  search.camera_from_receiver = search.camera_from_tanker * tanker_from_receiver;
+  search.lateral_scale = g.focal_px / std::max(o.lateral_noise_px, 1e-9);
+  search.disparity_scale = g.focal_times_baseline_px_m / std::max(o.disparity_noise_px, 1e-9);
+  std::vector<Eigen::Vector3d> points;
+  for (size_t j = 0; j < surface.size(); ++j) {
+    const Eigen::Vector3d c = search.camera_from_receiver * surface[j];
+    Eigen::Vector3d mapped;
+    if ((search.camera_from_receiver.linear() * surface_normals[j]).dot(c) < 0.0 && search.Map(surface[j], mapped)) {
+      search.index.push_back(static_cast<uint32_t>(j));
+      points.push_back(mapped);
+    }
+  }
+  if (points.empty()) throw Error("point-to-plane ICP: no model surface faces the cameras");
+  search.tree = std::make_unique<KdTree3d>(std::move(points), o.kdtree_leaf_size);
+  return search;
+}
+
 }  // namespace
 
 std::string ToString(PlanePairing pairing) {
-  return pairing == PlanePairing::kSensedToModel ? "sensed_to_model" : "symmetric";
+  switch (pairing) {
+    case PlanePairing::kSensedToModel:
+      return "sensed_to_model";
+    case PlanePairing::kSymmetric:
+      return "symmetric";
+    case PlanePairing::kMahalanobis:
+      return "mahalanobis";
+  }
+  return "unknown";
 }
 
 PlanePairing ParsePlanePairing(const std::string& text) {
   if (text == "sensed_to_model") return PlanePairing::kSensedToModel;
   if (text == "symmetric") return PlanePairing::kSymmetric;
-  throw Error("point-to-plane pairing '" + text + "': expected sensed_to_model or symmetric");
+  if (text == "mahalanobis") return PlanePairing::kMahalanobis;
+  throw Error("point-to-plane pairing '" + text + "': expected sensed_to_model, symmetric or mahalanobis");
 }
 
 void PlaneIcpOptions::Check() const {
@@ -137,6 +204,7 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
   CheckFinitePoints(sensed, "point-to-plane ICP: sensed point");
   const PlaneIcpOptions& o = options_;
   const bool symmetric = o.pairing == PlanePairing::kSymmetric;
+  const bool metric = o.pairing == PlanePairing::kMahalanobis;
   const std::vector<SensedNoise> noise = NoiseOf(sensed, geometry_, o);
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& s : sensed) centre += s;
@@ -148,7 +216,34 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
   const bool own_surface = !surface_.empty();
   const std::vector<Eigen::Vector3d>& surface = own_surface ? surface_ : model_;
   const std::vector<Eigen::Vector3d>& surface_normals = own_surface ? surface_normals_ : normals_;
-  CachedNearest to_model(own_surface ? *surface_tree_ : *model_tree_, sensed.size(), true, search_radius);
+  // kMahalanobis: its distances are not metres, so no radius. Rebuilt when
+  // the camera's rays through the receiver have turned by more than
+  // sigma_lat / sigma_ray (median over the cloud) since: beyond that, an
+  // along-ray error of one sigma would be mistaken for a lateral one of one sigma.
+  MetricSearch metric_search;
+  std::unique_ptr<CachedNearest> to_metric;
+  const auto build_metric_search = [&](const Eigen::Isometry3d& tanker_from_receiver) {
+    metric_search = BuildMetricSearch(surface, surface_normals, geometry_, o, tanker_from_receiver);
+    to_metric = std::make_unique<CachedNearest>(*metric_search.tree, sensed.size(), true,
+                                                std::numeric_limits<double>::infinity());
+  };
+  double max_ray_turn_rad = 0.0, range_m = 0.0;
+  if (metric) {
+    std::vector<double> ratios, ranges;
+    for (size_t i = 0; i < sensed.size(); ++i) {
+      ratios.push_back(std::sqrt(noise[i].lateral_variance / noise[i].ray_variance));
+      ranges.push_back((sensed[i] - geometry_.camera_centre_in_tanker).norm());
+    }
+    const auto median = [](std::vector<double>& v) {
+      auto middle = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+      std::nth_element(v.begin(), middle, v.end());
+      return *middle;
+    };
+    max_ray_turn_rad = median(ratios);
+    range_m = median(ranges);
+    build_metric_search(initial_tanker_from_receiver);
+  }
+  CachedNearest to_model(own_surface ? *surface_tree_ : *model_tree_, metric ? 0 : sensed.size(), true, search_radius);
   std::unique_ptr<KdTree3d> sensed_tree;
   std::unique_ptr<CachedNearest> to_sensed;
   if (symmetric) {
@@ -168,12 +263,34 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
     const Eigen::Isometry3d& tanker_from_receiver = result.tanker_from_receiver;
     const Eigen::Isometry3d receiver_from_tanker = tanker_from_receiver.inverse();
     const Eigen::Matrix3d rotation = tanker_from_receiver.linear();
+    if (metric) {
+      const Eigen::Isometry3d receiver_from_camera_then = metric_search.camera_from_receiver.inverse();
+      const Eigen::Isometry3d camera_now_from_receiver = metric_search.camera_from_tanker * tanker_from_receiver;
+      const Eigen::Isometry3d change = camera_now_from_receiver * receiver_from_camera_then;
+      const double turn =
+          Eigen::AngleAxisd(change.linear()).angle() +
+          (receiver_from_camera_then.translation() - camera_now_from_receiver.inverse().translation()).norm() / range_m;
+      if (turn > max_ray_turn_rad) build_metric_search(tanker_from_receiver);
+    }
     NormalEquations equations;
     double sum_squared = 0.0;
     size_t inliers = 0;
     for (size_t i = 0; i < sensed.size(); i += coarse) {
-      const auto [j, squared] = to_model.Find(i, receiver_from_tanker * sensed[i]);
-      if (j == CachedNearest::kNone || squared > noise[i].gate_squared) continue;
+      const Eigen::Vector3d in_receiver = receiver_from_tanker * sensed[i];
+      size_t j = CachedNearest::kNone;
+      double squared = 0.0;
+      if (metric) {
+        Eigen::Vector3d mapped;
+        if (!metric_search.Map(in_receiver, mapped)) continue;
+        j = to_metric->Find(i, mapped).first;
+        if (j == CachedNearest::kNone) continue;
+        j = metric_search.index[j];
+        squared = SquaredDistance(in_receiver, surface[j]);
+      } else {
+        std::tie(j, squared) = to_model.Find(i, in_receiver);
+        if (j == CachedNearest::kNone) continue;
+      }
+      if (squared > noise[i].gate_squared) continue;
       equations.Add(tanker_from_receiver * surface[j], rotation * surface_normals[j], sensed[i], noise[i], centre, o,
                     static_cast<double>(coarse), sum_squared);
       ++inliers;

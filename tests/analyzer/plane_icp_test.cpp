@@ -137,12 +137,42 @@ TEST(PlaneIcp, ModelPullFadesWithTheScaleAgainstTheDepthNoise) {
   EXPECT_THROW(bad.Check(), Error);
 }
 
+TEST(PlaneIcp, MahalanobisPairingConvergesOnTheSurfacesFacingTheCameras) {
+  // What a stereo pair sees of the receiver at about 55 m: the samples whose
+  // surface faces the left camera. The metric pairing searches only those
+  // faces of the model, in the camera's scaled disparity space.
+  const ReferenceModel model = SampleSurfaceWithNormals(Receiver(), 8000, 7);
+  const StereoNoiseGeometry geometry = Geometry();
+  const ReferenceModel samples = SampleSurfaceWithNormals(Receiver(), 3000, 8);
+  std::vector<Eigen::Vector3d> sensed;
+  for (size_t i = 0; i < samples.points_in_receiver.size(); ++i) {
+    const Eigen::Vector3d s = TruePose() * samples.points_in_receiver[i];
+    if ((TruePose().linear() * samples.normals_in_receiver[i]).dot(s - geometry.camera_centre_in_tanker) < 0.0) {
+      sensed.push_back(s);
+    }
+  }
+  ASSERT_GT(sensed.size(), 500u);
+  Eigen::Isometry3d initial = TruePose();
+  initial.translation() += Eigen::Vector3d(0.3, -0.3, 0.3);
+  initial.linear() = Eigen::AngleAxisd(3.0 * M_PI / 180.0, Eigen::Vector3d(1, 1, 1).normalized()) * initial.linear();
+  PlaneIcpOptions options;
+  options.pairing = PlanePairing::kMahalanobis;
+  const PlaneIcpRegistration icp(model.points_in_receiver, model.normals_in_receiver, geometry, options);
+  const PlaneIcpResult result = icp.Register(sensed, initial);
+  EXPECT_TRUE(result.converged);
+  EXPECT_LE(result.iterations, 40);
+  const Eigen::Isometry3d error = TruePose().inverse() * result.tanker_from_receiver;
+  EXPECT_LT(error.translation().norm(), 0.02);
+  EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI, 0.1);
+}
+
 TEST(PlaneIcp, RejectsModelsWithoutNormalsAndEmptyClouds) {
   const ReferenceModel model = SampleSurfaceWithNormals(Receiver(), 100, 1);
   EXPECT_THROW(PlaneIcpRegistration(model.points_in_receiver, {}, Geometry()), Error);
   const PlaneIcpRegistration icp(model.points_in_receiver, model.normals_in_receiver, Geometry());
   EXPECT_THROW(icp.Register({}, Eigen::Isometry3d::Identity()), Error);
   EXPECT_EQ(ParsePlanePairing(ToString(PlanePairing::kSymmetric)), PlanePairing::kSymmetric);
+  EXPECT_EQ(ParsePlanePairing(ToString(PlanePairing::kMahalanobis)), PlanePairing::kMahalanobis);
   EXPECT_THROW(ParsePlanePairing("both"), Error);
 }
 

@@ -24,7 +24,19 @@
 // sensed points to the model (a sensed point always has a model surface), or
 // both ways (each model point also pulls towards its nearest sensed point,
 // which constrains the extent of the receiver along the rays; those pulls
-// grow with the paired point's depth noise, model_pull_scale_m). Iterations stop
+// grow with the paired point's depth noise, model_pull_scale_m), or in the
+// noise metric (kMahalanobis): a point re-projected at long range errs along
+// its ray by metres and across it by centimetres, so its nearest model point
+// in metres is usually not where it came from, and such pairs tilt the model
+// towards the rays (the long-range pitch bias). The metric pairing takes the
+// front-facing model point q minimising
+//
+//   |P (s - q)|^2 / sigma_lat^2 + (u . (s - q))^2 / sigma_ray^2,  P = I - u u^T,
+//
+// with the frame's mean ray u and median sigmas (the rays of one frame differ
+// by a few degrees; sigma_ray / sigma_lat by the spread of ranges), found by
+// a KD-tree over the model compressed along u (u and the front-facing set in
+// the receiver frame at the initial pose, one tree per frame). Iterations stop
 // when a step moves less than both tolerances.
 //
 // Single-threaded, fixed summation order: bitwise repeatable.
@@ -43,8 +55,12 @@ namespace aar {
 enum class PlanePairing {
   kSensedToModel,  ///< each sensed point with its nearest model point
   kSymmetric,      ///< sensed-to-model pairs plus model-to-sensed pairs
+  /// Each sensed point with the model point facing the cameras that is
+  /// nearest in the stereo noise metric: the most likely source of the
+  /// point, not the nearest in metres (see PlaneIcpRegistration::Register).
+  kMahalanobis,
 };
-/// "sensed_to_model" / "symmetric"; the parser throws aar::Error on other text.
+/// "sensed_to_model" / "symmetric" / "mahalanobis"; the parser throws aar::Error on other text.
 std::string ToString(PlanePairing pairing);
 PlanePairing ParsePlanePairing(const std::string& text);
 
