@@ -65,7 +65,7 @@ struct SceneRenderer::GpuModel {
   GpuBuffer vertices;
   GpuBuffer indices;
   std::vector<Draw> draws;
-  Eigen::AlignedBox3d bounds;  // object frame, for the render-area rectangle
+  MeshGeometry geometry;  // object frame, for the render-area rectangle
 };
 
 struct SceneRenderer::Target {
@@ -233,9 +233,6 @@ int SceneRenderer::AddModel(const SceneModel& model) {
                   p.vertices.size() * sizeof(Vertex));
       std::memcpy(static_cast<uint32_t*>(gpu->indices.mapped()) + i, p.indices.data(),
                   p.indices.size() * sizeof(uint32_t));
-      for (const Vertex& vertex : p.vertices) {
-        gpu->bounds.extend(Eigen::Vector3d(vertex.position[0], vertex.position[1], vertex.position[2]));
-      }
       GpuModel::Draw draw;
       draw.first_index = static_cast<uint32_t>(i);
       draw.index_count = static_cast<uint32_t>(p.indices.size());
@@ -247,6 +244,7 @@ int SceneRenderer::AddModel(const SceneModel& model) {
       i += p.indices.size();
     }
   }
+  gpu->geometry = MeshGeometryOf(model);
   models_.push_back(std::move(gpu));
   return static_cast<int>(models_.size()) - 1;
 }
@@ -394,7 +392,7 @@ PixelRect SceneRenderer::RenderArea(const Eigen::Matrix4d& clip_from_tanker,
   for (const RenderItem& item : items) {
     const GpuModel& model = *models_.at(item.model);
     const PixelRect r =
-        ProjectedRect(clip_from_tanker * item.tanker_from_object.matrix(), model.bounds, width_, height_, kMarginPx);
+        GeometryRect(clip_from_tanker * item.tanker_from_object.matrix(), model.geometry, width_, height_, kMarginPx);
     if (r.empty()) continue;
     area = {std::min(area.x0, r.x0), std::min(area.y0, r.y0), std::max(area.x1, r.x1), std::max(area.y1, r.y1)};
   }
@@ -411,7 +409,9 @@ LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, cons
   for (size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = target.background[i % 3];
   const Eigen::Matrix4d cam_from_tanker = camera.tanker_from_camera.inverse().matrix();
   // Only the rectangle that can hold geometry is rendered with MSAA; the rest is sky or background.
-  const PixelRect area = RenderArea(ClipFromCamera(camera.intrinsics, near_m) * cam_from_tanker, items);
+  const PixelRect area = options_.full_frame
+                             ? PixelRect{0, 0, width_, height_}
+                             : RenderArea(ClipFromCamera(camera.intrinsics, near_m) * cam_from_tanker, items);
   std::optional<BackgroundPush> background;
   if (options_.background.enabled()) background = BackgroundFor(camera);
   if (background && (area.width() < width_ || area.height() < height_)) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "aar/renderer/background.h"
+#include "aar/renderer/geometry_rect.h"
 #include "aar/renderer/gpu_resources.h"
 #include "aar/renderer/msaa.h"
 #include "aar/renderer/projection.h"
@@ -55,6 +56,10 @@ struct SceneRendererOptions {
   /// draws it again behind the aircraft, at the unjittered pixel centres, so
   /// the two agree exactly outside the aircraft (docs/rendering.md).
   BackgroundOptions background;
+  /// Render every pixel with MSAA instead of only the rectangle that can hold
+  /// geometry (geometry_rect.h); the same images, slower: the reference the
+  /// rectangle is tested against.
+  bool full_frame = false;
 };
 
 class SceneRenderer {
