@@ -52,9 +52,10 @@ struct SceneRendererOptions {
   /// trilinear only. Costly on lavapipe (x16 anisotropy is 2.5x slower).
   float max_anisotropy = 1.0f;
   /// What is behind the aircraft; the default (flat) is sky_linear everywhere.
-  /// Otherwise a full-frame single-sample pass draws it, and every MSAA pass
-  /// draws it again behind the aircraft, at the unjittered pixel centres, so
-  /// the two agree exactly outside the aircraft (docs/rendering.md).
+  /// Otherwise one single-sample pass per view draws it over the whole frame,
+  /// the MSAA passes draw only the aircraft over a transparent clear, and
+  /// their resolved coverage (alpha) composites the aircraft over it
+  /// (docs/rendering.md, "Backgrounds").
   BackgroundOptions background;
   /// Render every pixel with MSAA instead of only the rectangle that can hold
   /// geometry (geometry_rect.h); the same images, slower: the reference the
