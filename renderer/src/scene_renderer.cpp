@@ -386,19 +386,23 @@ void SceneRenderer::ReadBack(const Target& target, const PixelRect& area) {
   });
 }
 
-PixelRect SceneRenderer::RenderArea(const Eigen::Matrix4d& clip_from_tanker,
-                                    const std::vector<RenderItem>& items) const {
+SceneRenderer::ViewArea SceneRenderer::RenderArea(const Eigen::Matrix4d& clip_from_tanker,
+                                                  const std::vector<RenderItem>& items) const {
+  if (options_.full_frame) return {PixelRect{0, 0, width_, height_}, items};
   // Jitter moves the image by less than a pixel; 3 px of margin covers it and the rasterizer's rounding.
   constexpr int kMarginPx = 3;
-  PixelRect area{width_, height_, 0, 0};
+  ViewArea area{PixelRect{width_, height_, 0, 0}, {}};
   for (const RenderItem& item : items) {
     const GpuModel& model = *models_.at(item.model);
     const PixelRect r =
         GeometryRect(clip_from_tanker * item.tanker_from_object.matrix(), model.geometry, width_, height_, kMarginPx);
-    if (r.empty()) continue;
-    area = {std::min(area.x0, r.x0), std::min(area.y0, r.y0), std::max(area.x1, r.x1), std::max(area.y1, r.y1)};
+    if (r.empty()) continue;  // no part within the margin of the image: drawing it would change no pixel
+    area.items.push_back(item);
+    const PixelRect& a = area.rect;
+    area.rect = {std::min(a.x0, r.x0), std::min(a.y0, r.y0), std::max(a.x1, r.x1), std::max(a.y1, r.y1)};
   }
-  return area.empty() ? PixelRect{0, 0, 1, 1} : area;  // nothing in view: render one sky pixel
+  if (area.rect.empty()) area.rect = {0, 0, 1, 1};  // nothing in view: render one sky pixel
+  return area;
 }
 
 LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, const std::vector<RenderItem>& items,
@@ -429,11 +433,11 @@ LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, cons
   } else {
     for (size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = target.sky[i % 3];
   }
-  // Only the rectangle that can hold geometry is rendered with MSAA; the rest is sky or background.
+  // Only the rectangle that can hold geometry is rendered with MSAA, and only
+  // the objects that reach into it are drawn; the rest is sky or background.
   const Eigen::Matrix4d cam_from_tanker = camera.tanker_from_camera.inverse().matrix();
-  const PixelRect area = options_.full_frame
-                             ? PixelRect{0, 0, width_, height_}
-                             : RenderArea(ClipFromCamera(camera.intrinsics, near_m) * cam_from_tanker, items);
+  const ViewArea view = RenderArea(ClipFromCamera(camera.intrinsics, near_m) * cam_from_tanker, items);
+  const PixelRect& area = view.rect;
   std::vector<float> sum(static_cast<size_t>(area.width()) * area.height() * 4, 0.0f);  // linear RGBA
   const float weight = 1.0f / static_cast<float>(plan.passes);
   for (const Vec2& jitter : plan.offsets_px) {
@@ -441,7 +445,7 @@ LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, cons
     const Eigen::Matrix4d clip_from_tanker =
         ClipFromCamera(camera.intrinsics, near_m, jitter.x, jitter.y) * cam_from_tanker;
     context_.SubmitAndWait(
-        [&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, items, false, area, nullptr); });
+        [&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, view.items, false, area, nullptr); });
     if (timings) timings->render_ms += MillisecondsSince(start);
     start = std::chrono::steady_clock::now();
     ReadBack(target, area);

@@ -57,9 +57,10 @@ struct SceneRendererOptions {
   /// their resolved coverage (alpha) composites the aircraft over it
   /// (docs/rendering.md, "Backgrounds").
   BackgroundOptions background;
-  /// Render every pixel with MSAA instead of only the rectangle that can hold
-  /// geometry (geometry_rect.h); the same images, slower: the reference the
-  /// rectangle is tested against.
+  /// Render every pixel with MSAA, drawing every item, instead of only the
+  /// rectangle that can hold geometry and the items that reach into it
+  /// (geometry_rect.h); the same images, slower: the reference the rectangle
+  /// is tested against.
   bool full_frame = false;
 };
 
@@ -88,7 +89,13 @@ class SceneRenderer {
               const std::vector<RenderItem>& items, bool ground_truth, const PixelRect& area,
               const BackgroundPush* background);
   void ReadBack(const Target& target, const PixelRect& area);
-  PixelRect RenderArea(const Eigen::Matrix4d& clip_from_tanker, const std::vector<RenderItem>& items) const;
+  /// The rectangle the MSAA passes render and the items that reach into it
+  /// (all of them, over the whole frame, with options_.full_frame).
+  struct ViewArea {
+    PixelRect rect;
+    std::vector<RenderItem> items;
+  };
+  ViewArea RenderArea(const Eigen::Matrix4d& clip_from_tanker, const std::vector<RenderItem>& items) const;
 
   VulkanContext& context_;
   int width_;
