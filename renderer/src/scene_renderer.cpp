@@ -386,6 +386,32 @@ void SceneRenderer::ReadBack(const Target& target, const PixelRect& area) {
   });
 }
 
+const std::vector<float>& SceneRenderer::BackgroundOf(const Camera& camera, ViewTimings* timings) {
+  const BackgroundPush push = BackgroundFor(camera);
+  const std::string key(reinterpret_cast<const char*>(&push), sizeof(push));
+  for (const CachedBackground& cached : backgrounds_) {
+    if (cached.push == key) return cached.rgb;
+  }
+  // A single-sample pass over the whole frame, evaluated at the pixel centres.
+  auto start = std::chrono::steady_clock::now();
+  Target& single = TargetFor(1, false);
+  const PixelRect full{0, 0, width_, height_};
+  context_.SubmitAndWait(
+      [&](VkCommandBuffer cmd) { Record(cmd, single, Eigen::Matrix4d::Identity(), {}, false, full, &push); });
+  if (timings) timings->render_ms += MillisecondsSince(start);
+  start = std::chrono::steady_clock::now();
+  ReadBack(single, full);
+  const auto* half = static_cast<const Eigen::half*>(readback_.mapped());
+  std::vector<float> rgb(static_cast<size_t>(width_) * height_ * 3);
+  for (size_t i = 0; i < rgb.size() / 3; ++i) {
+    for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = static_cast<float>(half[i * 4 + c]);
+  }
+  if (timings) timings->readback_ms += MillisecondsSince(start);
+  if (backgrounds_.size() == kCachedBackgrounds) backgrounds_.erase(backgrounds_.begin());
+  backgrounds_.push_back({key, std::move(rgb)});
+  return backgrounds_.back().rgb;
+}
+
 SceneRenderer::ViewArea SceneRenderer::RenderArea(const Eigen::Matrix4d& clip_from_tanker,
                                                   const std::vector<RenderItem>& items) const {
   if (options_.full_frame) return {PixelRect{0, 0, width_, height_}, items};
@@ -414,22 +440,7 @@ LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, cons
   out.rgb.resize(static_cast<size_t>(width_) * height_ * 3);
   const bool background = options_.background.enabled();
   if (background) {
-    // The background once per view: a single-sample pass over the whole
-    // frame, evaluated at the pixel centres (docs/rendering.md, "Backgrounds").
-    auto start = std::chrono::steady_clock::now();
-    Target& single = TargetFor(1, false);
-    const PixelRect full{0, 0, width_, height_};
-    const BackgroundPush push = BackgroundFor(camera);
-    context_.SubmitAndWait(
-        [&](VkCommandBuffer cmd) { Record(cmd, single, Eigen::Matrix4d::Identity(), {}, false, full, &push); });
-    if (timings) timings->render_ms += MillisecondsSince(start);
-    start = std::chrono::steady_clock::now();
-    ReadBack(single, full);
-    const auto* half = static_cast<const Eigen::half*>(readback_.mapped());
-    for (size_t i = 0; i < out.rgb.size() / 3; ++i) {
-      for (int c = 0; c < 3; ++c) out.rgb[i * 3 + c] = static_cast<float>(half[i * 4 + c]);
-    }
-    if (timings) timings->readback_ms += MillisecondsSince(start);
+    out.rgb = BackgroundOf(camera, timings);
   } else {
     for (size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = target.sky[i % 3];
   }
