@@ -86,9 +86,12 @@ cv::Mat ToSrgb8(const LinearImage& image) {
   return out;
 }
 
-std::string EncodePng(const cv::Mat& bgr8) {
+std::string EncodePng(const cv::Mat& bgr8, PngStrategy strategy) {
   std::vector<uint8_t> bytes;
-  if (!cv::imencode(".png", bgr8, bytes, {cv::IMWRITE_PNG_COMPRESSION, 3})) throw Error("PNG encoding failed");
+  std::vector<int> settings = {cv::IMWRITE_PNG_COMPRESSION, 3};
+  if (strategy == PngStrategy::kRunLength)
+    settings.insert(settings.end(), {cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_RLE});
+  if (!cv::imencode(".png", bgr8, bytes, settings)) throw Error("PNG encoding failed");
   return std::string(bytes.begin(), bytes.end());
 }
 

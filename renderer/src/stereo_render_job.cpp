@@ -205,7 +205,9 @@ RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size
   Progress progress(label, selected.size());
   const auto start = std::chrono::steady_clock::now();
   // Pair k is encoded and written while pair k + 1 renders.
-  PairWriter writer(options.output);
+  PairWriterOptions writing;
+  if (options.background.enabled() && kind == "frame") writing.color_png = PngStrategy::kRunLength;
+  PairWriter writer(options.output, writing);
   for (size_t index : selected) {
     if (SidecarVerified(options.output, SidecarPath(options.output, kind, index))) {
       ++result.skipped;

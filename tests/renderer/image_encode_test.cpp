@@ -1,6 +1,7 @@
-// ToSrgb8 (image_encode.h): the bucketed lookup gives, for every float it can
+// image_encode.h: ToSrgb8's bucketed lookup gives, for every float it can
 // meet, the code of the exact search over the code thresholds
-// SrgbToLinear((i - 0.5) / 255), so images encode to the same bytes.
+// SrgbToLinear((i - 0.5) / 255), so images encode to the same bytes; both PNG
+// strategies are lossless and deterministic.
 
 #include "aar/renderer/image_encode.h"
 
@@ -10,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <opencv2/imgcodecs.hpp>
 #include <random>
 #include <vector>
 
@@ -59,6 +61,27 @@ TEST(ImageEncode, Srgb8CodesEqualTheExactSearchForEveryKindOfValue) {
     ++checked;
   }
   EXPECT_GT(checked, 200000u);
+}
+
+// Both zlib strategies are lossless: the PNGs decode to the image encoded,
+// and each encodes the same image to the same bytes every time.
+TEST(ImageEncode, RunLengthPngDecodesToTheSamePixels) {
+  cv::Mat image(96, 128, CV_8UC3);
+  std::mt19937 rng(11);
+  for (int y = 0; y < image.rows; ++y) {
+    for (int x = 0; x < image.cols; ++x) {
+      const int field = (x / 16 + y / 16) % 4 * 40;  // fields with noise, like terrain
+      for (int c = 0; c < 3; ++c) image.at<cv::Vec3b>(y, x)[c] = static_cast<uint8_t>(field + 30 * c + rng() % 24);
+    }
+  }
+  for (PngStrategy strategy : {PngStrategy::kDefault, PngStrategy::kRunLength}) {
+    const std::string png = EncodePng(image, strategy);
+    EXPECT_EQ(EncodePng(image, strategy), png);
+    const cv::Mat decoded = cv::imdecode(std::vector<uint8_t>(png.begin(), png.end()), cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(decoded.type(), image.type());
+    EXPECT_EQ(cv::countNonZero(decoded.reshape(1) != image.reshape(1)), 0);
+  }
+  EXPECT_NE(EncodePng(image, PngStrategy::kDefault), EncodePng(image, PngStrategy::kRunLength));
 }
 
 }  // namespace

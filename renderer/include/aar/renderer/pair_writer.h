@@ -4,7 +4,7 @@
 // while pair k + 1 renders (docs/rendering.md, "Encoding beside rendering").
 // Pairs are written one at a time in the order they are queued, each pair's
 // images before its sidecar, as the single-threaded loop wrote them: the same
-// bytes, and a pair whose sidecar is missing is rendered again on resume.
+// files, and a pair whose sidecar is missing is rendered again on resume.
 
 #include <array>
 #include <condition_variable>
@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "aar/dataset.h"
+#include "aar/renderer/image_encode.h"
 #include "aar/renderer/scene_renderer.h"
 
 namespace aar {
@@ -43,18 +44,23 @@ struct PairWriteTimes {
   double write_ms = 0.0;   ///< hashing and atomic writes of the colour images and sidecars
 };
 
-/// Encodes, hashes and writes one pair into `dataset`, the sidecar last; the
-/// worker's job.
-void WriteRenderedPair(const std::filesystem::path& dataset, RenderedPair pair, PairWriteTimes& times);
-
 struct PairWriterOptions {
   /// Rendered pairs that may wait for the worker besides the one it writes;
   /// the renderer waits beyond. Each holds its linear images (19 MB a pair at
   /// 1024 x 768), so this bounds the memory.
   size_t max_queued_pairs = 2;
+  /// zlib strategy of the colour images (masks keep the default): run-length
+  /// over a textured background.
+  PngStrategy color_png = PngStrategy::kDefault;
 };
 
-/// One worker thread and a bounded queue of rendered pairs.
+/// Encodes (the two views' PNGs at once), hashes and writes one pair into
+/// `dataset`, the images in order and the sidecar last; the worker's job.
+void WriteRenderedPair(const std::filesystem::path& dataset, RenderedPair pair, PngStrategy color_png,
+                       PairWriteTimes& times);
+
+/// One worker thread (and, per pair, a second for the right view's PNG) and a
+/// bounded queue of rendered pairs.
 class PairWriter {
  public:
   explicit PairWriter(std::filesystem::path dataset, const PairWriterOptions& options = {});
