@@ -65,7 +65,7 @@ struct SceneRenderer::GpuModel {
   GpuBuffer vertices;
   GpuBuffer indices;
   std::vector<Draw> draws;
-  Eigen::AlignedBox3d bounds;  // object frame, for the render-area rectangle
+  MeshGeometry geometry;  // object frame, for the render-area rectangle
 };
 
 struct SceneRenderer::Target {
@@ -81,8 +81,8 @@ struct SceneRenderer::Target {
   RenderTarget frame;
   VkDevice device = VK_NULL_HANDLE;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  VkPipeline background_pipeline = VK_NULL_HANDLE;  // with a background
-  std::array<float, 3> background{};                // a resolved sky pixel as this target produces it
+  VkPipeline background_pipeline = VK_NULL_HANDLE;  // single-sample targets, with a background
+  std::array<float, 3> sky{};                       // flat sky: a resolved sky pixel as this target produces it
 };
 
 SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, const SceneRendererOptions& options)
@@ -233,9 +233,6 @@ int SceneRenderer::AddModel(const SceneModel& model) {
                   p.vertices.size() * sizeof(Vertex));
       std::memcpy(static_cast<uint32_t*>(gpu->indices.mapped()) + i, p.indices.data(),
                   p.indices.size() * sizeof(uint32_t));
-      for (const Vertex& vertex : p.vertices) {
-        gpu->bounds.extend(Eigen::Vector3d(vertex.position[0], vertex.position[1], vertex.position[2]));
-      }
       GpuModel::Draw draw;
       draw.first_index = static_cast<uint32_t>(i);
       draw.index_count = static_cast<uint32_t>(p.indices.size());
@@ -247,6 +244,7 @@ int SceneRenderer::AddModel(const SceneModel& model) {
       i += p.indices.size();
     }
   }
+  gpu->geometry = MeshGeometryOf(model);
   models_.push_back(std::move(gpu));
   return static_cast<int>(models_.size()) - 1;
 }
@@ -268,7 +266,7 @@ SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) 
   const VkSpecializationInfo sun{3, sun_entries, sizeof(sun_in_tanker_), sun_in_tanker_.data()};
   if (!ground_truth) builder.fragment_specialization = &sun;
   t->pipeline = builder.Build(t->device, t->frame.render_pass());
-  if (options_.background.enabled()) {
+  if (options_.background.enabled() && samples == 1) {
     PipelineBuilder background = builder;
     background.vertex_shader = background_vert_;
     background.fragment_shader = ground_truth ? background_truth_frag_ : background_frag_;
@@ -277,7 +275,7 @@ SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) 
     t->background_pipeline = background.Build(t->device, t->frame.render_pass());
   }
   slot = std::move(t);
-  if (!ground_truth) {
+  if (!ground_truth && !options_.background.enabled()) {
     // Sky pixels outside the render area are filled with this value, read
     // back from a 1x1 render of nothing, so they equal rendered sky exactly.
     const PixelRect corner{0, 0, 1, 1};
@@ -285,7 +283,7 @@ SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) 
         [&](VkCommandBuffer cmd) { Record(cmd, *slot, Eigen::Matrix4d::Identity(), {}, false, corner, nullptr); });
     ReadBack(*slot, corner);
     const auto* half = static_cast<const Eigen::half*>(readback_.mapped());
-    for (int c = 0; c < 3; ++c) slot->background[c] = static_cast<float>(half[c]);
+    for (int c = 0; c < 3; ++c) slot->sky[c] = static_cast<float>(half[c]);
   }
   return *slot;
 }
@@ -319,7 +317,9 @@ void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Mat
                            const std::vector<RenderItem>& items, bool ground_truth, const PixelRect& area,
                            const BackgroundPush* background) {
   VkClearValue clears[2]{};
-  if (ground_truth) {
+  if (ground_truth || options_.background.enabled()) {
+    // Truth: no surface. Colour over a background: transparent, so that the
+    // resolved alpha is the aircraft's coverage (RenderColor composites).
     clears[0].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
   } else {
     clears[0].color = {{options_.sky_linear[0], options_.sky_linear[1], options_.sky_linear[2], 1.0f}};
@@ -386,19 +386,49 @@ void SceneRenderer::ReadBack(const Target& target, const PixelRect& area) {
   });
 }
 
-PixelRect SceneRenderer::RenderArea(const Eigen::Matrix4d& clip_from_tanker,
-                                    const std::vector<RenderItem>& items) const {
+const std::vector<float>& SceneRenderer::BackgroundOf(const Camera& camera, ViewTimings* timings) {
+  const BackgroundPush push = BackgroundFor(camera);
+  const std::string key(reinterpret_cast<const char*>(&push), sizeof(push));
+  for (const CachedBackground& cached : backgrounds_) {
+    if (cached.push == key) return cached.rgb;
+  }
+  // A single-sample pass over the whole frame, evaluated at the pixel centres.
+  auto start = std::chrono::steady_clock::now();
+  Target& single = TargetFor(1, false);
+  const PixelRect full{0, 0, width_, height_};
+  context_.SubmitAndWait(
+      [&](VkCommandBuffer cmd) { Record(cmd, single, Eigen::Matrix4d::Identity(), {}, false, full, &push); });
+  if (timings) timings->render_ms += MillisecondsSince(start);
+  start = std::chrono::steady_clock::now();
+  ReadBack(single, full);
+  const auto* half = static_cast<const Eigen::half*>(readback_.mapped());
+  std::vector<float> rgb(static_cast<size_t>(width_) * height_ * 3);
+  for (size_t i = 0; i < rgb.size() / 3; ++i) {
+    for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = static_cast<float>(half[i * 4 + c]);
+  }
+  if (timings) timings->readback_ms += MillisecondsSince(start);
+  if (backgrounds_.size() == kCachedBackgrounds) backgrounds_.erase(backgrounds_.begin());
+  backgrounds_.push_back({key, std::move(rgb)});
+  return backgrounds_.back().rgb;
+}
+
+SceneRenderer::ViewArea SceneRenderer::RenderArea(const Eigen::Matrix4d& clip_from_tanker,
+                                                  const std::vector<RenderItem>& items) const {
+  if (options_.full_frame) return {PixelRect{0, 0, width_, height_}, items};
   // Jitter moves the image by less than a pixel; 3 px of margin covers it and the rasterizer's rounding.
   constexpr int kMarginPx = 3;
-  PixelRect area{width_, height_, 0, 0};
+  ViewArea area{PixelRect{width_, height_, 0, 0}, {}};
   for (const RenderItem& item : items) {
     const GpuModel& model = *models_.at(item.model);
     const PixelRect r =
-        ProjectedRect(clip_from_tanker * item.tanker_from_object.matrix(), model.bounds, width_, height_, kMarginPx);
-    if (r.empty()) continue;
-    area = {std::min(area.x0, r.x0), std::min(area.y0, r.y0), std::max(area.x1, r.x1), std::max(area.y1, r.y1)};
+        GeometryRect(clip_from_tanker * item.tanker_from_object.matrix(), model.geometry, width_, height_, kMarginPx);
+    if (r.empty()) continue;  // no part within the margin of the image: drawing it would change no pixel
+    area.items.push_back(item);
+    const PixelRect& a = area.rect;
+    area.rect = {std::min(a.x0, r.x0), std::min(a.y0, r.y0), std::max(a.x1, r.x1), std::max(a.y1, r.y1)};
   }
-  return area.empty() ? PixelRect{0, 0, 1, 1} : area;  // nothing in view: render one sky pixel
+  if (area.rect.empty()) area.rect = {0, 0, 1, 1};  // nothing in view: render one sky pixel
+  return area;
 }
 
 LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, const std::vector<RenderItem>& items,
@@ -408,50 +438,45 @@ LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, cons
   out.width = width_;
   out.height = height_;
   out.rgb.resize(static_cast<size_t>(width_) * height_ * 3);
-  for (size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = target.background[i % 3];
-  const Eigen::Matrix4d cam_from_tanker = camera.tanker_from_camera.inverse().matrix();
-  // Only the rectangle that can hold geometry is rendered with MSAA; the rest is sky or background.
-  const PixelRect area = RenderArea(ClipFromCamera(camera.intrinsics, near_m) * cam_from_tanker, items);
-  std::optional<BackgroundPush> background;
-  if (options_.background.enabled()) background = BackgroundFor(camera);
-  if (background && (area.width() < width_ || area.height() < height_)) {
-    // The whole frame's background in one single-sample pass; the shader
-    // evaluates it at the pixel centres without jitter, as the MSAA passes do.
-    auto start = std::chrono::steady_clock::now();
-    Target& single = TargetFor(1, false);
-    const PixelRect full{0, 0, width_, height_};
-    context_.SubmitAndWait(
-        [&](VkCommandBuffer cmd) { Record(cmd, single, Eigen::Matrix4d::Identity(), {}, false, full, &*background); });
-    if (timings) timings->render_ms += MillisecondsSince(start);
-    start = std::chrono::steady_clock::now();
-    ReadBack(single, full);
-    const auto* half = static_cast<const Eigen::half*>(readback_.mapped());
-    for (size_t i = 0; i < out.rgb.size() / 3; ++i) {
-      for (int c = 0; c < 3; ++c) out.rgb[i * 3 + c] = static_cast<float>(half[i * 4 + c]);
-    }
-    if (timings) timings->readback_ms += MillisecondsSince(start);
+  const bool background = options_.background.enabled();
+  if (background) {
+    out.rgb = BackgroundOf(camera, timings);
+  } else {
+    for (size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = target.sky[i % 3];
   }
-  std::vector<float> sum(static_cast<size_t>(area.width()) * area.height() * 3, 0.0f);
+  // Only the rectangle that can hold geometry is rendered with MSAA, and only
+  // the objects that reach into it are drawn; the rest is sky or background.
+  const Eigen::Matrix4d cam_from_tanker = camera.tanker_from_camera.inverse().matrix();
+  const ViewArea view = RenderArea(ClipFromCamera(camera.intrinsics, near_m) * cam_from_tanker, items);
+  const PixelRect& area = view.rect;
+  std::vector<float> sum(static_cast<size_t>(area.width()) * area.height() * 4, 0.0f);  // linear RGBA
   const float weight = 1.0f / static_cast<float>(plan.passes);
   for (const Vec2& jitter : plan.offsets_px) {
     auto start = std::chrono::steady_clock::now();
     const Eigen::Matrix4d clip_from_tanker =
         ClipFromCamera(camera.intrinsics, near_m, jitter.x, jitter.y) * cam_from_tanker;
-    context_.SubmitAndWait([&](VkCommandBuffer cmd) {
-      Record(cmd, target, clip_from_tanker, items, false, area, background ? &*background : nullptr);
-    });
+    context_.SubmitAndWait(
+        [&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, view.items, false, area, nullptr); });
     if (timings) timings->render_ms += MillisecondsSince(start);
     start = std::chrono::steady_clock::now();
     ReadBack(target, area);
     const auto* half = static_cast<const Eigen::half*>(readback_.mapped());
-    for (size_t i = 0; i < sum.size() / 3; ++i) {
-      for (int c = 0; c < 3; ++c) sum[i * 3 + c] += weight * static_cast<float>(half[i * 4 + c]);
-    }
+    for (size_t i = 0; i < sum.size(); ++i) sum[i] += weight * static_cast<float>(half[i]);
     if (timings) timings->readback_ms += MillisecondsSince(start);
   }
+  // Over a background the passes were cleared transparent: alpha is the
+  // aircraft's coverage of the pixel's samples, and the colour is
+  // premultiplied by it, so the uncovered rest shows the background (exactly
+  // the background where nothing covers the pixel, exactly the aircraft where
+  // it covers every sample). Over the flat sky the passes drew the sky.
   for (int y = 0; y < area.height(); ++y) {
-    std::copy_n(&sum[static_cast<size_t>(y) * area.width() * 3], area.width() * 3,
-                &out.rgb[(static_cast<size_t>(y + area.y0) * width_ + area.x0) * 3]);
+    const float* in = &sum[static_cast<size_t>(y) * area.width() * 4];
+    float* row = &out.rgb[(static_cast<size_t>(y + area.y0) * width_ + area.x0) * 3];
+    for (int x = 0; x < area.width(); ++x) {
+      const float uncovered = 1.0f - in[x * 4 + 3];
+      for (int c = 0; c < 3; ++c)
+        row[x * 3 + c] = background ? in[x * 4 + c] + uncovered * row[x * 3 + c] : in[x * 4 + c];
+    }
   }
   return out;
 }

@@ -13,9 +13,9 @@
 #include "aar/region.h"
 #include "aar/renderer/calib_poses.h"
 #include "aar/renderer/dataset_writer.h"
-#include "aar/renderer/image_encode.h"
 #include "aar/renderer/lens_distortion.h"
 #include "aar/renderer/msaa.h"
+#include "aar/renderer/pair_writer.h"
 #include "aar/renderer/projection.h"
 #include "aar/renderer/scene_renderer.h"
 #include "aar/stereo_calibration.h"
@@ -140,76 +140,52 @@ Session OpenSession(const RenderJobOptions& options, const StereoRig& rig, const
   return s;
 }
 
-// Writes one 8-bit grey PNG and records it in the sidecar as `role`.
-void WriteMask(const std::filesystem::path& dataset, const std::string& relative, const std::string& role,
-               const GroundTruthImage& truth, const std::vector<uint8_t>& values, FrameSidecar& sidecar) {
-  const std::string png = EncodePng(cv::Mat(truth.height, truth.width, CV_8UC1, const_cast<uint8_t*>(values.data())));
-  WriteFileAtomic(dataset / relative, png);
-  sidecar.files[role] = FileRef{relative, Sha256Hex(png)};
-}
-
-// Depth truth of one camera: depth EXR and object ids from a single-sample
-// pass of the whole scene, and the receiver's silhouette from a pass of the
+// Depth truth of one camera: depth and object ids from a single-sample pass
+// of the whole scene, and the receiver's silhouette from a pass of the
 // receiver alone (255 where it covers the pixel, whatever is in front).
-void WriteDepthTruth(Session& session, const std::vector<RenderItem>& items, const std::filesystem::path& dataset,
-                     const std::string& prefix, const std::string& side, FrameSidecar& sidecar,
-                     RenderStageTimes& times) {
+ViewTruth RenderDepthTruth(Session& session, const std::vector<RenderItem>& items, const std::string& side,
+                           RenderStageTimes& times) {
   const Camera camera = session.RenderCamera(side);
-  const std::optional<LensResampler>& lens = session.Lens(side);
   auto start = std::chrono::steady_clock::now();
-  GroundTruthImage truth = session.renderer->RenderGroundTruth(camera, session.rig.near_m, items);
+  ViewTruth view;
+  view.side = side;
+  view.scene = session.renderer->RenderGroundTruth(camera, session.rig.near_m, items);
   std::vector<RenderItem> receiver_only;
   for (const RenderItem& item : items) {
     if (item.object_id == kReceiverId) receiver_only.push_back(item);
   }
-  GroundTruthImage alone = session.renderer->RenderGroundTruth(camera, session.rig.near_m, receiver_only);
+  view.alone = session.renderer->RenderGroundTruth(camera, session.rig.near_m, receiver_only);
   times.render_ms += MillisecondsSince(start);
-  if (lens) {
+  if (const std::optional<LensResampler>& lens = session.Lens(side)) {
     start = std::chrono::steady_clock::now();
-    truth = lens->ResampleTruth(truth);
-    alone = lens->ResampleTruth(alone);
+    view.scene = lens->ResampleTruth(view.scene);
+    view.alone = lens->ResampleTruth(view.alone);
     times.readback_ms += MillisecondsSince(start);
   }
-  start = std::chrono::steady_clock::now();
-  const std::string depth_relative = prefix + "_" + side + "_depth.exr";
-  sidecar.files[side + "_depth"] = FileRef{depth_relative, WriteDepthExr(dataset / depth_relative, truth)};
-  WriteMask(dataset, prefix + "_" + side + "_mask.png", side + "_mask", truth, truth.object_id, sidecar);
-  std::vector<uint8_t> silhouette(alone.object_id.size());
-  for (size_t i = 0; i < silhouette.size(); ++i) silhouette[i] = alone.object_id[i] != 0 ? 255 : 0;
-  WriteMask(dataset, prefix + "_" + side + "_silhouette.png", side + "_silhouette", alone, silhouette, sidecar);
-  times.encode_ms += MillisecondsSince(start);
+  return view;
 }
 
-// Renders, encodes and writes one stereo pair and its sidecar (written last).
-void WritePair(Session& session, const std::vector<RenderItem>& items, const std::filesystem::path& dataset,
-               const std::string& dir, FrameSidecar sidecar, const std::vector<std::string>& depth_sides,
-               RenderStageTimes& times) {
-  const std::string stem = FrameStem(sidecar.index);
-  for (const char* side : {"left", "right"}) {
-    ViewTimings view;
-    LinearImage image =
-        session.renderer->RenderColor(session.RenderCamera(side), session.rig.near_m, items, session.plan, &view);
-    times.render_ms += view.render_ms;
-    times.readback_ms += view.readback_ms;
-    auto start = std::chrono::steady_clock::now();
+// Renders one stereo pair (and the truth asked for); the PairWriter encodes and writes it.
+RenderedPair RenderPair(Session& session, const std::vector<RenderItem>& items, const std::string& dir,
+                        FrameSidecar sidecar, const std::vector<std::string>& depth_sides, RenderStageTimes& times) {
+  RenderedPair pair;
+  pair.dir = dir;
+  pair.sidecar = std::move(sidecar);
+  for (size_t view = 0; view < pair.color.size(); ++view) {
+    const std::string side = view == 0 ? "left" : "right";
+    ViewTimings timings;
+    pair.color[view] =
+        session.renderer->RenderColor(session.RenderCamera(side), session.rig.near_m, items, session.plan, &timings);
+    times.render_ms += timings.render_ms;
+    times.readback_ms += timings.readback_ms;
     if (const std::optional<LensResampler>& lens = session.Lens(side)) {
-      image = lens->ResampleColor(image);
+      const auto start = std::chrono::steady_clock::now();
+      pair.color[view] = lens->ResampleColor(pair.color[view]);
       times.readback_ms += MillisecondsSince(start);
-      start = std::chrono::steady_clock::now();
     }
-    const std::string png = EncodePng(ToSrgb8(image));
-    times.encode_ms += MillisecondsSince(start);
-    start = std::chrono::steady_clock::now();
-    const std::string relative = dir + "/" + stem + "_" + side + ".png";
-    WriteFileAtomic(dataset / relative, png);
-    sidecar.files[side] = FileRef{relative, Sha256Hex(png)};
-    times.write_ms += MillisecondsSince(start);
   }
-  for (const std::string& side : depth_sides)
-    WriteDepthTruth(session, items, dataset, dir + "/" + stem, side, sidecar, times);
-  auto start = std::chrono::steady_clock::now();
-  WriteJsonFile(SidecarPath(dataset, sidecar.kind, sidecar.index), SidecarToJson(sidecar));
-  times.write_ms += MillisecondsSince(start);
+  for (const std::string& side : depth_sides) pair.truth.push_back(RenderDepthTruth(session, items, side, times));
+  return pair;
 }
 
 // Shared loop: renders the selected pairs not yet complete, then finalizes.
@@ -227,16 +203,26 @@ RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size
   if (kind == "frame" && (options.depth || options.depth_right)) depth_sides.push_back("left");
   if (kind == "frame" && options.depth_right) depth_sides.push_back("right");
   Progress progress(label, selected.size());
+  const auto start = std::chrono::steady_clock::now();
+  // Pair k is encoded and written while pair k + 1 renders.
+  PairWriterOptions writing;
+  if (options.background.enabled() && kind == "frame") writing.color_png = PngStrategy::kRunLength;
+  PairWriter writer(options.output, writing);
   for (size_t index : selected) {
     if (SidecarVerified(options.output, SidecarPath(options.output, kind, index))) {
       ++result.skipped;
     } else {
       auto [items, sidecar] = make_pair(index);
-      WritePair(session, items, options.output, dir, std::move(sidecar), depth_sides, result.times);
+      writer.Push(RenderPair(session, items, dir, std::move(sidecar), depth_sides, result.times));
       ++result.rendered;
     }
     if (options.progress) progress.Advance();
   }
+  const PairWriteTimes written = writer.Finish();
+  result.times.encode_ms = written.encode_ms;
+  result.times.write_ms = written.write_ms;
+  result.times.wait_ms = writer.wait_ms();
+  result.times.wall_ms = MillisecondsSince(start);
   if (options.progress) progress.Finish();
   result.complete = FinalizeManifest(options.output);
   return result;

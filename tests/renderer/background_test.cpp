@@ -279,6 +279,27 @@ TEST(Background, SameInputsGiveByteIdenticalDatasetsAndTheSeedMatters) {
   EXPECT_EQ(files[0].at("frames/000000_left_mask.png"), files[2].at("frames/000000_left_mask.png"));
 }
 
+// The background depends on the camera alone, so it is rendered once per
+// camera and reused for the following frames: frame 1 of a run that rendered
+// frame 0 first is the same, byte for byte, as frame 1 rendered alone.
+TEST(Background, ReusedBackgroundEqualsAFreshlyRenderedOne) {
+  TempDir dir("background-reuse");
+  const std::filesystem::path path = WritePath(dir);
+  std::vector<std::filesystem::path> datasets;
+  for (size_t begin : {0u, 1u}) {
+    RenderJobOptions o = Options(dir / ("from" + std::to_string(begin)), path);
+    o.background.kind = BackgroundKind::kTerrain;
+    o.msaa = 4;
+    o.selection.begin = begin;
+    RenderFlightPathJob(o);
+    datasets.push_back(o.output);
+  }
+  for (const char* side : {"left", "right"}) {
+    EXPECT_EQ(ReadFileBytes(FramePath(datasets[0], 1, side)), ReadFileBytes(FramePath(datasets[1], 1, side))) << side;
+  }
+  EXPECT_NE(ReadFileBytes(FramePath(datasets[0], 1, "left")), ReadFileBytes(FramePath(datasets[0], 1, "right")));
+}
+
 // The flat default: no `background` key in the manifest (datasets made before
 // backgrounds still match), sky id 0 with depth 0, nothing else but aircraft.
 TEST(Background, FlatDefaultHasNoBackgroundInManifestOrMasks) {

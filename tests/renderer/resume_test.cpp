@@ -1,11 +1,13 @@
 // Resuming into an existing dataset: a refused resume (other flight path, rig
 // or receiver) changes no file of the dataset; a dataset without manifest is
-// refused; leftovers of interrupted writes are removed; two renders with
+// refused; leftovers of interrupted writes are removed; an error of the
+// writer thread stops the run and a rerun resumes; two renders with
 // different settings started together: exactly one is accepted.
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <map>
 #include <string>
 
@@ -98,6 +100,30 @@ TEST_F(RenderResume, ResumeRemovesTemporariesOfInterruptedWrites) {
   for (const auto& [name, content] : Snapshot(dataset_)) {
     EXPECT_EQ(fs::path(name).filename().string().rfind(".tmp", 0), std::string::npos) << name << " left behind";
   }
+}
+
+// Pairs are encoded and written on the writer thread while the next renders
+// (pair_writer.h): a write that fails there (frame 602's left image cannot
+// replace the folder in its place) stops the run with one line naming the
+// file and exit code 1; the pair before it is complete, the failed pair has no
+// sidecar, and once the obstacle is gone a rerun renders just that pair.
+TEST_F(RenderResume, WriterErrorStopsTheRunWithOneLineAndResumes) {
+  const fs::path blocker = dataset_ / "frames" / "000602_left.png";
+  fs::create_directories(blocker / "in-the-way");
+  Inputs three;
+  three.extra = "--frames 600:603";
+  const test::CommandResult failed = RunCommand(RenderCommand(dataset_, three));
+  EXPECT_EQ(failed.exit_code, 1) << failed.output;
+  EXPECT_EQ(failed.output.rfind("aar-render: error: " + blocker.string() + ": ", 0), 0u) << failed.output;
+  EXPECT_EQ(std::count(failed.output.begin(), failed.output.end(), '\n'), 1) << failed.output;
+  EXPECT_TRUE(SidecarVerified(dataset_, SidecarPath(dataset_, "frame", 601)));
+  EXPECT_FALSE(fs::exists(SidecarPath(dataset_, "frame", 602)));
+
+  fs::remove_all(blocker);
+  const test::CommandResult resumed = RunCommand(RenderCommand(dataset_, three));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("1 pairs rendered, 2 already complete"), std::string::npos) << resumed.output;
+  EXPECT_TRUE(SidecarVerified(dataset_, SidecarPath(dataset_, "frame", 602)));
 }
 
 // Both start before either has written its manifest; whichever takes the

@@ -27,21 +27,3 @@ double InViewFraction(const std::vector<Eigen::Vector3d>& points_in_object, cons
                       const Eigen::Isometry3d& tanker_from_object);
 
 }  // namespace aar
-
-namespace aar {
-
-/// A pixel rectangle [x0, x1) x [y0, y1).
-struct PixelRect {
-  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-  int width() const { return x1 - x0; }
-  int height() const { return y1 - y0; }
-  bool empty() const { return x1 <= x0 || y1 <= y0; }
-};
-
-/// Conservative framebuffer rectangle covering an axis-aligned box (object
-/// frame) under clip_from_object, grown by `margin_px` and clamped to the
-/// image; the whole image when any corner is not in front of the camera.
-PixelRect ProjectedRect(const Eigen::Matrix4d& clip_from_object, const Eigen::AlignedBox3d& box, int width, int height,
-                        int margin_px);
-
-}  // namespace aar

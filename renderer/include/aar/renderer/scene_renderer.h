@@ -8,9 +8,11 @@
 #include <Eigen/Geometry>
 #include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "aar/renderer/background.h"
+#include "aar/renderer/geometry_rect.h"
 #include "aar/renderer/gpu_resources.h"
 #include "aar/renderer/msaa.h"
 #include "aar/renderer/projection.h"
@@ -51,10 +53,17 @@ struct SceneRendererOptions {
   /// trilinear only. Costly on lavapipe (x16 anisotropy is 2.5x slower).
   float max_anisotropy = 1.0f;
   /// What is behind the aircraft; the default (flat) is sky_linear everywhere.
-  /// Otherwise a full-frame single-sample pass draws it, and every MSAA pass
-  /// draws it again behind the aircraft, at the unjittered pixel centres, so
-  /// the two agree exactly outside the aircraft (docs/rendering.md).
+  /// Otherwise one single-sample pass per camera draws it over the whole
+  /// frame (once for all frames: it depends on the camera alone), the MSAA
+  /// passes draw only the aircraft over a transparent clear, and their
+  /// resolved coverage (alpha) composites the aircraft over it
+  /// (docs/rendering.md, "Backgrounds").
   BackgroundOptions background;
+  /// Render every pixel with MSAA, drawing every item, instead of only the
+  /// rectangle that can hold geometry and the items that reach into it
+  /// (geometry_rect.h); the same images, slower: the reference the rectangle
+  /// is tested against.
+  bool full_frame = false;
 };
 
 class SceneRenderer {
@@ -78,11 +87,20 @@ class SceneRenderer {
   Target& TargetFor(int samples, bool ground_truth);
   struct BackgroundPush;
   BackgroundPush BackgroundFor(const Camera& camera) const;
+  /// The camera's background, linear RGB of the whole frame: rendered the
+  /// first time, then the same pixels from the cache.
+  const std::vector<float>& BackgroundOf(const Camera& camera, ViewTimings* timings);
   void Record(VkCommandBuffer cmd, Target& target, const Eigen::Matrix4d& clip_from_tanker,
               const std::vector<RenderItem>& items, bool ground_truth, const PixelRect& area,
               const BackgroundPush* background);
   void ReadBack(const Target& target, const PixelRect& area);
-  PixelRect RenderArea(const Eigen::Matrix4d& clip_from_tanker, const std::vector<RenderItem>& items) const;
+  /// The rectangle the MSAA passes render and the items that reach into it
+  /// (all of them, over the whole frame, with options_.full_frame).
+  struct ViewArea {
+    PixelRect rect;
+    std::vector<RenderItem> items;
+  };
+  ViewArea RenderArea(const Eigen::Matrix4d& clip_from_tanker, const std::vector<RenderItem>& items) const;
 
   VulkanContext& context_;
   int width_;
@@ -105,6 +123,16 @@ class SceneRenderer {
   std::vector<VkDescriptorSet> texture_sets_;  ///< one per texture; [0] is a 1x1 white texture
   std::map<std::pair<int, bool>, std::unique_ptr<Target>> targets_;
   GpuBuffer readback_;
+  /// The background depends on the camera alone (its pose in the level
+  /// frame, over which the tanker does not move; background.h), not on the
+  /// frame: one pass per camera serves every frame. The last two cameras'
+  /// (a stereo rig's), keyed by their background.frag push constants.
+  struct CachedBackground {
+    std::string push;
+    std::vector<float> rgb;
+  };
+  static constexpr size_t kCachedBackgrounds = 2;
+  std::vector<CachedBackground> backgrounds_;
 };
 
 }  // namespace aar

@@ -40,12 +40,17 @@ struct RenderJobOptions {
   void Check() const;
 };
 
-/// Accumulated wall time per stage over the pairs rendered [ms].
+/// Accumulated wall time per stage over the pairs rendered [ms]. Encoding
+/// and writing run on the pair writer's thread (pair_writer.h), beside the
+/// rendering of the next pair: the stages overlap, and wall_ms, not their
+/// sum, is the run's time.
 struct RenderStageTimes {
-  double render_ms = 0.0;    ///< GPU passes (all MSAA passes of both views)
+  double render_ms = 0.0;    ///< GPU passes (all MSAA passes of both views, truth passes)
   double readback_ms = 0.0;  ///< copies to host memory, half-to-float, averaging, lens resampling
-  double encode_ms = 0.0;    ///< sRGB conversion and PNG (and EXR) encoding
-  double write_ms = 0.0;     ///< hashing and atomic writes of images and sidecars
+  double encode_ms = 0.0;    ///< writer thread: sRGB conversion and PNG (and EXR) encoding
+  double write_ms = 0.0;     ///< writer thread: hashing and atomic writes of images and sidecars
+  double wait_ms = 0.0;      ///< the renderer waiting for the writer (queue full; the last pairs)
+  double wall_ms = 0.0;      ///< the whole loop: resume checks, rendering, and the last pair written
 };
 
 struct RenderJobResult {
