@@ -44,6 +44,7 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
     const PlaneIcpOptions& p = f.plane_icp;
     registration.update({{"max_iterations", p.max_iterations},
                          {"pairing", ToString(p.pairing)},
+                         {"converged_chi2", p.converged_chi2},
                          {"sensed_pairing_surface", f.pair_sensed_with_full_surface ? "full" : "model"},
                          {"model_pull_scale_m", p.model_pull_scale_m},
                          {"gate_sigmas", p.gate_sigmas},

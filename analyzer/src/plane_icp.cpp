@@ -164,6 +164,7 @@ void PlaneIcpOptions::Check() const {
     throw Error("point-to-plane ICP: noise model needs disparity/lateral noise >= 0 and surface noise > 0");
   }
   if (kdtree_leaf_size < 1) throw Error("point-to-plane ICP: kdtree_leaf_size must be >= 1");
+  if (!(converged_chi2 >= 0.0)) throw Error("point-to-plane ICP: converged_chi2 must be >= 0");
 }
 
 PlaneIcpRegistration::PlaneIcpRegistration(std::vector<Eigen::Vector3d> model_points_in_receiver,
@@ -341,7 +342,11 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
       continue;
     }
     // One more association after convergence gives the final statistics.
-    result.converged = v.norm() < o.translation_tolerance_m && angle < o.rotation_tolerance_rad;
+    // kMahalanobis: also converged when the step is small against the
+    // estimate's own uncertainty, step^T H step = -g . step (chi^2 units, H
+    // weighted by 1 / sigma^2), as its pairs keep switching by less than that.
+    const bool within_noise = metric && -equations.g.dot(step) < o.converged_chi2;
+    result.converged = (v.norm() < o.translation_tolerance_m && angle < o.rotation_tolerance_rad) || within_noise;
   }
   return result;
 }

@@ -29,15 +29,19 @@
 // its ray by metres and across it by centimetres, so its nearest model point
 // in metres is usually not where it came from, and such pairs tilt the model
 // towards the rays (the long-range pitch bias). The metric pairing takes the
-// front-facing model point q minimising
+// model point facing the left camera that is nearest in the camera's
+// disparity space scaled by the noise,
 //
-//   |P (s - q)|^2 / sigma_lat^2 + (u . (s - q))^2 / sigma_ray^2,  P = I - u u^T,
+//   (f x/z / sigma_px, f y/z / sigma_px, f b/z / sigma_d),
 //
-// with the frame's mean ray u and median sigmas (the rays of one frame differ
-// by a few degrees; sigma_ray / sigma_lat by the spread of ranges), found by
-// a KD-tree over the model compressed along u (u and the front-facing set in
-// the receiver frame at the initial pose, one tree per frame). Iterations stop
-// when a step moves less than both tolerances.
+// where the stereo noise is isotropic (an image-position error across the
+// ray, a disparity error along it): the most likely source of the sensed
+// point along its own ray. One KD-tree per frame over the camera-facing model
+// points mapped so, rebuilt when the estimate has turned the rays through the
+// receiver by more than sigma_lat / sigma_ray (median over the cloud); no
+// model-to-sensed pairs. Iterations stop when a step moves less than both
+// tolerances (kMahalanobis also: when the step is small against the
+// estimate's own uncertainty, converged_chi2).
 //
 // Single-threaded, fixed summation order: bitwise repeatable.
 
@@ -72,6 +76,12 @@ struct PlaneIcpOptions {
   double translation_tolerance_m = 1e-3;
   double rotation_tolerance_rad = 1e-4;  ///< [rad]
   PlanePairing pairing = PlanePairing::kSymmetric;
+  /// kMahalanobis: also converged when a step's squared length under the
+  /// estimate's own information matrix (the Gauss-Newton H, weighted by
+  /// 1 / sigma^2) is below this, i.e. the step is under sqrt(0.1) = 0.32
+  /// standard deviations of the estimate: its pairs keep switching between
+  /// model samples by less than the noise allows to resolve [chi^2].
+  double converged_chi2 = 0.1;
   /// Pairs farther apart than the larger of this and gate_sigmas times the
   /// sensed point's along-ray sigma are ignored [m] (the gate grows with the
   /// depth noise, so far clouds are not cut); the robust kernel handles the rest.
