@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -54,6 +55,17 @@ inline std::filesystem::path SourcePath(const std::string& relative) {
 
 inline std::filesystem::path BinaryPath(const std::string& relative) {
   return std::filesystem::path(AAR_BINARY_DIR) / relative;
+}
+
+/// The rigs committed in scenes/, for tests instantiated over each of them.
+inline const auto kCommittedRigs =
+    ::testing::Values("scenes/rig.json", "scenes/rig-thesis.json", "scenes/rig-distorted.json");
+
+/// A parameterised test's name for a committed rig: its file stem, '-' as '_'.
+inline std::string CommittedRigName(const ::testing::TestParamInfo<const char*>& info) {
+  std::string name = std::filesystem::path(info.param).stem().string();
+  std::replace(name.begin(), name.end(), '-', '_');
+  return name;
 }
 
 }  // namespace aar::test

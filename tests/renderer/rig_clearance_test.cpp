@@ -136,13 +136,7 @@ TEST_P(TankerClearance, TankerStaysOutOfViewAndClearOfTheCameras) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(CommittedRigs, TankerClearance,
-                         ::testing::Values("scenes/rig.json", "scenes/rig-thesis.json", "scenes/rig-distorted.json"),
-                         [](const ::testing::TestParamInfo<const char*>& info) {
-                           std::string name = std::filesystem::path(info.param).stem().string();
-                           std::replace(name.begin(), name.end(), '-', '_');
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(CommittedRigs, TankerClearance, test::kCommittedRigs, test::CommittedRigName);
 
 }  // namespace
 }  // namespace aar
