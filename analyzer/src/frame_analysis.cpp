@@ -9,15 +9,12 @@
 #include "aar/analyzer/subpixel.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
+#include "aar/progress.h"
 #include "aar/region.h"
 #include "aar/text.h"
 
 namespace aar {
 namespace {
-
-double MillisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 // R1^T as a transform: rectified left camera to left camera.
 Eigen::Isometry3d LeftFromRectLeft(const StereoCalibration& calibration) {

@@ -6,14 +6,11 @@
 
 #include "aar/error.h"
 #include "aar/file_io.h"
+#include "aar/progress.h"
 #include "aar/renderer/image_encode.h"
 
 namespace aar {
 namespace {
-
-double MillisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Writes one 8-bit grey PNG and records it in the sidecar as `role`.
 void WriteMask(const std::filesystem::path& dataset, const std::string& relative, const std::string& role,

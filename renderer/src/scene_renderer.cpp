@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "aar/error.h"
+#include "aar/progress.h"
 #include "aar/renderer/background_texture.h"
 #include "aar/renderer/pipeline_builder.h"
 #include "aar/renderer/projection.h"
@@ -39,10 +40,6 @@ static_assert(offsetof(PushConstants, tanker_from_object_rows) == 64 &&
                   offsetof(PushConstants, base_color_factor) == 112,
               "push constants must match the GLSL block's layout");
 static_assert(sizeof(PushConstants) == 128, "push constants must fit the guaranteed 128 bytes");
-
-double MillisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 }  // namespace
 

@@ -27,10 +27,6 @@ constexpr float kReceiverId = 1.0f;
 constexpr float kTankerId = 2.0f;
 constexpr float kBoardId = 3.0f;
 
-double MillisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
 // Fails before anything is written when `dir` cannot be created or written.
 void CheckOutputFolder(const std::filesystem::path& dir) {
   if (dir.empty()) throw Error("no output folder given");

@@ -1,12 +1,18 @@
 #pragma once
 // A progress line on stderr: items done of total, rate and ETA. Redraws in
 // place on a terminal, prints at most every `interval_s` otherwise (logs).
+// Also the stage timer the tools' per-stage times use.
 
 #include <chrono>
 #include <cstddef>
 #include <string>
 
 namespace aar {
+
+/// Wall time since `start` [ms].
+inline double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
 
 class Progress {
  public:
