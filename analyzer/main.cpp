@@ -95,8 +95,9 @@ struct RunFlags {
     cmd->add_option("--correspondence", correspondence,
                     "point-to-point pairing: model_to_sensed (thesis) or sensed_to_model");
     cmd->add_option("--pairing", pairing,
-                    "point-to-plane pairing: symmetric (default), sensed_to_model, or mahalanobis (each sensed point "
-                    "with the camera-facing model point nearest in the stereo noise metric; no model-to-sensed pairs)");
+                    "point-to-plane pairing: mahalanobis (default: each sensed point with the camera-facing model "
+                    "point nearest in the stereo noise metric), symmetric (nearest in metres, plus model-to-sensed "
+                    "pairs), or sensed_to_model");
     cmd->add_option("--full-surface", full_surface,
                     "point-to-plane with the shelled model: pair sensed points with the full model's surface");
     cmd->add_option("--balance", balance, "symmetric pairing: weigh both directions equally in total (default: false)");

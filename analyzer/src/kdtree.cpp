@@ -20,40 +20,6 @@ struct PointsAdaptor {
   }
 };
 
-// k-nearest result set (nanoflann's RESULTSET interface) that can be seeded
-// with candidate points before the search, so that their distances bound the
-// search from the first node, and that ignores points at or beyond a radius.
-// Points already held are not added twice (a seed met again in the tree).
-class BoundedKnn {
- public:
-  BoundedKnn(size_t capacity, uint32_t* indices, double* squared, double max_squared)
-      : capacity_(capacity), indices_(indices), squared_(squared), max_squared_(max_squared) {}
-  size_t size() const { return count_; }
-  bool full() const { return count_ == capacity_; }
-  double worstDist() const { return count_ < capacity_ ? max_squared_ : squared_[capacity_ - 1]; }
-  bool addPoint(double squared, uint32_t index) {
-    if (!(squared < worstDist())) return true;
-    for (size_t i = 0; i < count_; ++i) {
-      if (indices_[i] == index) return true;
-    }
-    size_t i = count_ < capacity_ ? count_++ : capacity_ - 1;
-    for (; i > 0 && squared_[i - 1] > squared; --i) {  // insertion keeps earlier equal distances first
-      squared_[i] = squared_[i - 1];
-      indices_[i] = indices_[i - 1];
-    }
-    squared_[i] = squared;
-    indices_[i] = index;
-    return true;  // keep searching
-  }
-
- private:
-  size_t capacity_;
-  uint32_t* indices_;
-  double* squared_;
-  double max_squared_;
-  size_t count_ = 0;
-};
-
 using NanoflannTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
                                                           PointsAdaptor, 3, uint32_t>;
 

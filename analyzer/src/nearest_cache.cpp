@@ -7,7 +7,7 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 }  // namespace
 
-CachedNearest::CachedNearest(const KdTree3d& tree, size_t num_queries, bool enabled, double radius_m)
+CachedNearest::CachedNearest(const NearestSearch3d& tree, size_t num_queries, bool enabled, double radius_m)
     : tree_(tree),
       entries_(enabled ? num_queries : 0),
       radius_m_(radius_m),

@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "aar/analyzer/nearest_cache.h"
+#include "aar/analyzer/sheet_grid.h"
 #include "aar/error.h"
 
 namespace aar {
@@ -86,8 +87,8 @@ struct MetricSearch {
   Eigen::Isometry3d camera_from_receiver = Eigen::Isometry3d::Identity();  // at build time
   double lateral_scale = 1.0;                                              // f / sigma_px
   double disparity_scale = 1.0;                                            // f b / sigma_d
-  std::vector<uint32_t> index;                                             // search-tree point -> surface point
-  std::unique_ptr<KdTree3d> tree;
+  std::vector<uint32_t> index;                                             // search point -> surface point
+  std::unique_ptr<SheetGrid3d> tree;
 
   // The search-space point of `in_receiver`; false behind the camera.
   bool Map(const Eigen::Vector3d& in_receiver, Eigen::Vector3d& out) const {
@@ -122,7 +123,7 @@ MetricSearch BuildMetricSearch(const std::vector<Eigen::Vector3d>& surface,
     }
   }
   if (points.empty()) throw Error("point-to-plane ICP: no model surface faces the cameras");
-  search.tree = std::make_unique<KdTree3d>(std::move(points), o.kdtree_leaf_size);
+  search.tree = std::make_unique<SheetGrid3d>(std::move(points));
   return search;
 }
 

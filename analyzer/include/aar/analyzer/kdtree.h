@@ -11,29 +11,28 @@
 #include <utility>
 #include <vector>
 
+#include "aar/analyzer/nearest_search.h"
+
 namespace aar {
 
 /// 3-D KD-tree (nanoflann, L2) over a point set it owns. Queries are const
 /// and may run from several threads at once.
-class KdTree3d {
+class KdTree3d : public NearestSearch3d {
  public:
   explicit KdTree3d(std::vector<Eigen::Vector3d> points, int leaf_size = 10);
-  ~KdTree3d();
+  ~KdTree3d() override;
   KdTree3d(KdTree3d&&) noexcept;
   KdTree3d& operator=(KdTree3d&&) noexcept;
   KdTree3d(const KdTree3d&) = delete;
   KdTree3d& operator=(const KdTree3d&) = delete;
 
-  const std::vector<Eigen::Vector3d>& points() const;
+  const std::vector<Eigen::Vector3d>& points() const override;
   /// Index and squared distance of the nearest point (exact); the tree must not be empty.
   std::pair<size_t, double> Nearest(const Eigen::Vector3d& query) const;
-  /// The k nearest points (exact) strictly nearer than sqrt(max_squared_distance),
-  /// nearest first: fills indices[0..n) and squared_distances[0..n) and
-  /// returns n <= k. On entry, indices[0..num_seeds) may hold point indices
-  /// near the query (e.g. the previous answer of a point that moved a little);
-  /// they only bound the search from the start and make it faster.
+  /// See NearestSearch3d::NearestK.
   size_t NearestK(const Eigen::Vector3d& query, size_t k, uint32_t* indices, double* squared_distances,
-                  size_t num_seeds = 0, double max_squared_distance = std::numeric_limits<double>::infinity()) const;
+                  size_t num_seeds = 0,
+                  double max_squared_distance = std::numeric_limits<double>::infinity()) const override;
 
  private:
   struct Impl;

@@ -21,7 +21,8 @@
 #include <utility>
 #include <vector>
 
-#include "aar/analyzer/kdtree.h"
+#include "aar/analyzer/kdtree.h"  // SquaredDistance
+#include "aar/analyzer/nearest_search.h"
 
 namespace aar {
 
@@ -32,7 +33,7 @@ class CachedNearest {
 
   /// `num_queries` query slots over `tree` (which must outlive this object);
   /// `enabled` = false answers every query from the tree; `radius_m` = R [m].
-  CachedNearest(const KdTree3d& tree, size_t num_queries, bool enabled, double radius_m);
+  CachedNearest(const NearestSearch3d& tree, size_t num_queries, bool enabled, double radius_m);
 
   /// Nearest tree point to `x` (query slot `i`) and its squared distance;
   /// {kNone, +inf} when no point lies within R.
@@ -45,7 +46,7 @@ class CachedNearest {
     Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
     double bound = 0.0;
   };
-  const KdTree3d& tree_;
+  const NearestSearch3d& tree_;
   std::vector<Entry> entries_;
   double radius_m_;
   double radius_squared_;
