@@ -1,6 +1,7 @@
 // aar-make-rig: writes the committed stereo rigs scenes/rig.json (cameras
 // 30 deg down), scenes/rig-thesis.json (41 deg down, issue 9) and
-// scenes/rig-distorted.json (rig.json with lens distortion) from their
+// scenes/rig-distorted.json (rig.json with lens distortion) and
+// scenes/rig-noisy.json (rig.json with an image sensor) from their
 // presets (rig_presets.h), atomically.
 //
 //   aar-make-rig --out scenes/
@@ -16,7 +17,9 @@
 #include "rig_presets.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"Generate the committed stereo rigs rig.json, rig-thesis.json and rig-distorted.json (deterministic)."};
+  CLI::App app{
+      "Generate the committed stereo rigs rig.json, rig-thesis.json, rig-distorted.json and rig-noisy.json "
+      "(deterministic)."};
   std::string out_dir = "scenes";
   app.add_option("--out", out_dir, "output folder (scenes/)");
   CLI11_PARSE(app, argc, argv);
@@ -26,7 +29,7 @@ int main(int argc, char** argv) {
     aar::EnsureWritableDirectory(out);
     for (const auto& [name, preset] :
          {std::pair{"rig.json", sc::DefaultRig()}, std::pair{"rig-thesis.json", sc::ThesisRig()},
-          std::pair{"rig-distorted.json", sc::DistortedRig()}}) {
+          std::pair{"rig-distorted.json", sc::DistortedRig()}, std::pair{"rig-noisy.json", sc::NoisyRig()}}) {
       const std::filesystem::path path = out / name;
       aar::WriteFileAtomic(path, sc::FormatRig(preset));
       const aar::StereoRig rig = aar::LoadRig(path);  // the written file reads back as a rig

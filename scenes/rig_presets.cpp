@@ -55,6 +55,17 @@ std::string Camera(const RigPreset& r, double y_m, const LensCoefficients& d) {
   return o.str();
 }
 
+std::string Sensor(const SensorParams& sensor) {
+  std::ostringstream o;
+  o << "  \"sensor\": {\"seed\": " << sensor.seed << ", \"exposure_e\": " << Num(sensor.exposure_e)
+    << ", \"full_well_e\": " << Num(sensor.full_well_e) << ", \"read_noise_e\": " << Num(sensor.read_noise_e)
+    << ",\n             \"prnu\": " << Num(sensor.prnu) << ", \"dsnu_e\": " << Num(sensor.dsnu_e)
+    << ", \"adc_bits\": " << sensor.adc_bits << ", \"black_level_dn\": " << sensor.black_level_dn
+    << ",\n             \"blur_sigma_px\": " << Num(sensor.blur_sigma_px) << ", \"bayer\": \""
+    << (sensor.bayer == BayerPattern::kRggb ? "rggb" : "none") << "\"},\n";
+  return o.str();
+}
+
 }  // namespace
 
 RigPreset DefaultRig() {
@@ -96,6 +107,26 @@ RigPreset DistortedRig() {
   return r;
 }
 
+RigPreset NoisyRig() {
+  RigPreset r = DefaultRig();
+  // A machine-vision CMOS sensor (SensorParams' defaults: 10,000 e- full
+  // well, 6 e- read noise, 1 % PRNU, 2 e- DSNU, 12-bit ADC) exposed so that
+  // radiance 1.0 collects 2,000 e- (the sky's blue channel 1,560 e-: SNR 39 from
+  // shot noise alone, 36 with the rest), a blur of 0.5 px and an RGGB mosaic.
+  SensorParams sensor;
+  sensor.exposure_e = 2000.0;
+  sensor.blur_sigma_px = 0.5;
+  sensor.bayer = BayerPattern::kRggb;
+  r.sensor = sensor;
+  r.description =
+      "The cameras of scenes/rig.json with an image sensor (issue 9, item 4): EMVA 1288 photon transfer (exposure, "
+      "shot and read noise, fixed-pattern noise, full well, 12-bit ADC), a Gaussian optical blur and an RGGB Bayer "
+      "mosaic, docs/rendering.md. Positions in the tanker body frame (x forward, y left, z up, metres). Rotations are "
+      "tanker_from_camera: columns are the camera's x (right), y (down), z (optical axis) expressed in the tanker "
+      "frame.";
+  return r;
+}
+
 std::string FormatRig(const RigPreset& r) {
   double c = 0.0, s = 0.0;
   CosSinDeg(r.contact_depression_deg, &c, &s);
@@ -103,7 +134,11 @@ std::string FormatRig(const RigPreset& r) {
   const double contact_z = r.centre_m[2] - r.contact_range_m * s;
   std::ostringstream o;
   o << "{\n"
-    << "  \"schema\": \"" << (Distorted(r) ? "aar-rig/2" : "aar-rig/1") << "\",\n"
+    << "  \"schema\": \""
+    << (r.sensor       ? "aar-rig/3"
+        : Distorted(r) ? "aar-rig/2"
+                       : "aar-rig/1")
+    << "\",\n"
     << "  \"description\": \"" << r.description << "\",\n"
     << "  \"image_width\": " << r.image_width << ",\n"
     << "  \"image_height\": " << r.image_height << ",\n"
@@ -113,7 +148,7 @@ std::string FormatRig(const RigPreset& r) {
     << "    \"right\": {\n"
     << Camera(r, r.half_baseline_m, r.right_distortion) << "    }\n"
     << "  },\n"
-    << "  \"near_m\": " << Num(r.near_m) << ",\n"
+    << (r.sensor ? Sensor(*r.sensor) : "") << "  \"near_m\": " << Num(r.near_m) << ",\n"
     << "  \"contact_position_m\": [" << Num(contact_x) << ", " << Num(r.centre_m[1]) << ", " << Num(contact_z) << "]\n"
     << "}\n";
   return o.str();

@@ -1,10 +1,13 @@
 #pragma once
 // The committed stereo rigs (scenes/rig.json, scenes/rig-thesis.json,
-// scenes/rig-distorted.json) as presets, and their aar-rig text. Written by aar-make-rig; a pure function
-// of the preset, so the files are byte-identical from run to run.
+// scenes/rig-distorted.json, scenes/rig-noisy.json) as presets, and their aar-rig text. Written by aar-make-rig; a pure
+// function of the preset, so the files are byte-identical from run to run.
 
 #include <array>
+#include <optional>
 #include <string>
+
+#include "aar/sensor.h"
 
 namespace aar::scenes {
 
@@ -31,6 +34,7 @@ struct RigPreset {
   double near_m = 0.5;
   LensCoefficients left_distortion{};   ///< all zero: pinhole (written as aar-rig/1, no "distortion")
   LensCoefficients right_distortion{};  ///< all zero: pinhole
+  std::optional<SensorParams> sensor;   ///< none: the ideal sensor (no "sensor" block; aar-rig/3 when set)
 };
 
 /// scenes/rig.json: cameras 30 deg down, contact position on the optical axis at 32 m.
@@ -44,8 +48,13 @@ RigPreset ThesisRig();
 /// with a realistic barrel distortion each (docs/scenes.md gives the reasoning).
 RigPreset DistortedRig();
 
-/// The JSON text of a preset (the committed files' layout): aar-rig/1, or
-/// aar-rig/2 with a "distortion" object per camera when either has any.
+/// scenes/rig-noisy.json (issue 9, item 4): scenes/rig.json's cameras with
+/// an image sensor: noise, fixed pattern, optical blur and an RGGB mosaic.
+RigPreset NoisyRig();
+
+/// The JSON text of a preset (the committed files' layout): aar-rig/1,
+/// aar-rig/2 with a "distortion" object per camera when either has any, or
+/// aar-rig/3 with a "sensor" block when the preset has a sensor.
 std::string FormatRig(const RigPreset& rig);
 
 }  // namespace aar::scenes

@@ -116,25 +116,30 @@ nlohmann::json RigToJson(const StereoRig& rig) {
     return j;
   };
   const Eigen::Vector3d& contact = rig.contact_position_m;
-  return {{"schema", HasDistortion(rig) ? kRigSchemaV2 : kRigSchemaV1},
-          {"image_width", rig.left.intrinsics.width_px},
-          {"image_height", rig.left.intrinsics.height_px},
-          {"cameras", {{"left", camera(rig.left)}, {"right", camera(rig.right)}}},
-          {"near_m", rig.near_m},
-          {"contact_position_m", {contact.x(), contact.y(), contact.z()}}};
+  const char* schema = rig.sensor ? kRigSchemaV3 : HasDistortion(rig) ? kRigSchemaV2 : kRigSchemaV1;
+  nlohmann::json j = {{"schema", schema},
+                      {"image_width", rig.left.intrinsics.width_px},
+                      {"image_height", rig.left.intrinsics.height_px},
+                      {"cameras", {{"left", camera(rig.left)}, {"right", camera(rig.right)}}},
+                      {"near_m", rig.near_m},
+                      {"contact_position_m", {contact.x(), contact.y(), contact.z()}}};
+  if (rig.sensor) j["sensor"] = SensorToJson(*rig.sensor);
+  return j;
 }
 
 StereoRig RigFromJson(const nlohmann::json& j, const std::string& where) {
   try {
     StereoRig rig;
     bool allow_distortion = false;
+    bool allow_sensor = false;
     if (j.contains("schema")) {
       const nlohmann::json& schema = j.at("schema");
-      if (!schema.is_string() || (schema != kRigSchemaV1 && schema != kRigSchemaV2)) {
-        throw Error(where + ": unknown schema " + schema.dump() + " (expected \"" + kRigSchemaV1 + "\" or \"" +
-                    kRigSchemaV2 + "\")");
+      if (!schema.is_string() || (schema != kRigSchemaV1 && schema != kRigSchemaV2 && schema != kRigSchemaV3)) {
+        throw Error(where + ": unknown schema " + schema.dump() + " (expected \"" + kRigSchemaV1 + "\", \"" +
+                    kRigSchemaV2 + "\" or \"" + kRigSchemaV3 + "\")");
       }
-      allow_distortion = schema == kRigSchemaV2;
+      allow_distortion = schema != kRigSchemaV1;
+      allow_sensor = schema == kRigSchemaV3;
     }
     const int width = static_cast<int>(JsonInteger(j.at("image_width"), 1, 16384, where + ": image_width"));
     const int height = static_cast<int>(JsonInteger(j.at("image_height"), 1, 16384, where + ": image_height"));
@@ -154,6 +159,10 @@ StereoRig RigFromJson(const nlohmann::json& j, const std::string& where) {
       if (!contact.is_array() || contact.size() != 3) throw Error(where + ": contact_position_m must be [x, y, z]");
       for (int i = 0; i < 3; ++i) rig.contact_position_m(i) = contact.at(i).get<double>();
       if (!rig.contact_position_m.allFinite()) throw Error(where + ": contact_position_m is not finite");
+    }
+    if (j.contains("sensor")) {
+      if (!allow_sensor) throw Error(where + ": 'sensor' needs schema \"" + std::string(kRigSchemaV3) + "\"");
+      rig.sensor = SensorFromJson(j.at("sensor"), where);
     }
     return rig;
   } catch (const nlohmann::json::exception& e) {

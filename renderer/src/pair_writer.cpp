@@ -8,6 +8,7 @@
 #include "aar/file_io.h"
 #include "aar/progress.h"
 #include "aar/renderer/image_encode.h"
+#include "aar/renderer/sensor_model.h"
 
 namespace aar {
 namespace {
@@ -33,6 +34,13 @@ void WriteDepthTruth(const std::filesystem::path& dataset, const std::string& pr
             sidecar);
 }
 
+// The PNG of one view: its radiance as the pair's sensor records it, if it has one.
+std::string EncodeView(const RenderedPair& pair, size_t view, PngStrategy color_png) {
+  if (!pair.sensor) return EncodePng(ToSrgb8(pair.color[view]), color_png);
+  const SensorExposure exposure{pair.sidecar.kind == "calib" ? 1u : 0u, pair.sidecar.index, view};
+  return EncodePng(ToSrgb8(ApplySensorModel(pair.color[view], *pair.sensor, exposure)), color_png);
+}
+
 }  // namespace
 
 void WriteRenderedPair(const std::filesystem::path& dataset, RenderedPair pair, PngStrategy color_png,
@@ -40,9 +48,8 @@ void WriteRenderedPair(const std::filesystem::path& dataset, RenderedPair pair, 
   const std::string prefix = pair.dir + "/" + FrameStem(pair.sidecar.index);
   // The two views are encoded at once (the right one on a second thread), then written in order.
   auto start = std::chrono::steady_clock::now();
-  std::future<std::string> right =
-      std::async(std::launch::async, [&] { return EncodePng(ToSrgb8(pair.color[1]), color_png); });
-  const std::array<std::string, 2> pngs = {EncodePng(ToSrgb8(pair.color[0]), color_png), right.get()};
+  std::future<std::string> right = std::async(std::launch::async, [&] { return EncodeView(pair, 1, color_png); });
+  const std::array<std::string, 2> pngs = {EncodeView(pair, 0, color_png), right.get()};
   times.encode_ms += MillisecondsSince(start);
   start = std::chrono::steady_clock::now();
   for (size_t view = 0; view < pngs.size(); ++view) {

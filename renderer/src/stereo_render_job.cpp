@@ -120,6 +120,22 @@ nlohmann::json LensJson(const Session& s) {
           {"truth_resampling", "nearest pinhole sample (depth, object ids, silhouette never blended)"}};
 }
 
+nlohmann::json SensorJson(const SensorParams& sensor) {
+  nlohmann::json j = SensorToJson(sensor);
+  j["gain_dn_per_e"] = sensor.GainDnPerElectron();
+  j["model"] =
+      "EMVA 1288 photon transfer per pixel and channel (per pixel under the mosaic): electrons = radiance * "
+      "exposure_e * (1 + prnu * n_pixel), shot noise as its Gaussian approximation N(mean, mean), clipped at "
+      "full_well_e, plus dsnu_e * n_pixel and read_noise_e * n; DN = round(K * electrons + black_level_dn) in "
+      "[0, 2^adc_bits - 1]; written as (DN - black_level_dn) / (K * exposure_e)";
+  j["optics"] = "Gaussian PSF, sigma blur_sigma_px, cut at 3 sigma, in linear light before the noise";
+  j["demosaicing"] = sensor.bayer == BayerPattern::kNone ? "none" : "bilinear";
+  j["noise"] =
+      "counter-based: splitmix64 of (seed, stream, frames 0 / calib 1, index, camera 0 left / 1 right, sample), "
+      "Box-Muller; the fixed pattern of (seed, camera, sample) alone";
+  return j;
+}
+
 Session OpenSession(const RenderJobOptions& options, const StereoRig& rig, const BackgroundOptions& background) {
   Session s;
   s.rig = rig;
@@ -167,6 +183,7 @@ RenderedPair RenderPair(Session& session, const std::vector<RenderItem>& items, 
   RenderedPair pair;
   pair.dir = dir;
   pair.sidecar = std::move(sidecar);
+  pair.sensor = session.rig.sensor;
   for (size_t view = 0; view < pair.color.size(); ++view) {
     const std::string side = view == 0 ? "left" : "right";
     ViewTimings timings;
@@ -234,7 +251,8 @@ nlohmann::json CommonHeader(const Session& session, const std::string& rig_hash)
                              {"height", session.rig.left.intrinsics.height_px},
                              {"encoding", "PNG, 8-bit sRGB, RGB"}}},
                            {"inputs", {{"rig", {{"file", kRigName}, {"sha256", rig_hash}}}}}};
-  if (session.left_lens) header["image"]["lens"] = LensJson(session);  // absent for a pinhole rig
+  if (session.left_lens) header["image"]["lens"] = LensJson(session);                   // absent for a pinhole rig
+  if (session.rig.sensor) header["image"]["sensor"] = SensorJson(*session.rig.sensor);  // absent: the ideal sensor
   return header;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // The stereo rig (scenes/rig.json, docs/frames.md): two cameras, pinhole with
 // optional Brown-Conrady distortion (lens.h; schema aar-rig/2), each with its
-// pose tanker_from_camera.
+// pose tanker_from_camera, and an optional image sensor (sensor.h; aar-rig/3).
 
 #include <Eigen/Geometry>
 #include <filesystem>
@@ -9,14 +9,17 @@
 #include <optional>
 
 #include "aar/lens.h"
+#include "aar/sensor.h"
 
 namespace aar {
 
-/// Rig file schemas: 1 = pinhole cameras, 2 = with "distortion" per camera.
-/// Rigs are written as 2 only when a camera has distortion, so pinhole rigs
-/// (and the datasets made with them) are unchanged; both are read.
+/// Rig file schemas: 1 = pinhole cameras, 2 = with "distortion" per camera,
+/// 3 = also with a "sensor" block. Rigs are written as 2 only when a camera
+/// has distortion and as 3 only when the rig has a sensor, so earlier rigs
+/// (and the datasets made with them) are unchanged; all three are read.
 inline constexpr const char* kRigSchemaV1 = "aar-rig/1";
 inline constexpr const char* kRigSchemaV2 = "aar-rig/2";
+inline constexpr const char* kRigSchemaV3 = "aar-rig/3";
 
 struct Intrinsics {
   int width_px = 1024;      ///< image width [px]
@@ -45,6 +48,9 @@ struct StereoRig {
   Camera right;
   double near_m = 0.5;                                           ///< near clip plane [m]
   Eigen::Vector3d contact_position_m = Eigen::Vector3d::Zero();  ///< receiver contact position in the tanker frame [m]
+  /// The image sensor of both cameras; none (the default): the ideal
+  /// noise-free sensor, images exactly the rendered radiance.
+  std::optional<SensorParams> sensor;
 
   /// right_from_left: OpenCV stereoCalibrate's (R, T).
   Eigen::Isometry3d RightFromLeft() const;
@@ -59,12 +65,13 @@ StereoRig LoadRig(const std::filesystem::path& path);
 bool HasDistortion(const StereoRig& rig);
 
 /// JSON form used in rig files and frame sidecars: "fx_px" .. "cy_px", plus
-/// "distortion" {k1, k2, p1, p2, k3} when the lens has any.
+/// "distortion" {k1, k2, p1, p2, k3} when the lens has any. RigToJson adds
+/// "sensor" when the rig has one.
 nlohmann::json IntrinsicsToJson(const Intrinsics& intrinsics);
 nlohmann::json IsometryToJson(const Eigen::Isometry3d& a_from_b);
 nlohmann::json RigToJson(const StereoRig& rig);
 /// Parse helpers; `where` prefixes error messages. `allow_distortion`: the
-/// schema is aar-rig/2 (a "distortion" object in aar-rig/1 is refused); the
+/// schema is aar-rig/2 or 3 (a "distortion" object in aar-rig/1 is refused); the
 /// distortion must be one-to-one inside the image (CheckDistortionInImage).
 Intrinsics IntrinsicsFromJson(const nlohmann::json& j, int width, int height, const std::string& where,
                               bool allow_distortion = false);

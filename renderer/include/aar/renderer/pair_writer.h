@@ -13,6 +13,7 @@
 #include <exception>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -20,6 +21,7 @@
 #include "aar/dataset.h"
 #include "aar/renderer/image_encode.h"
 #include "aar/renderer/scene_renderer.h"
+#include "aar/sensor.h"
 
 namespace aar {
 
@@ -36,11 +38,14 @@ struct RenderedPair {
   FrameSidecar sidecar;              ///< its files are added as they are written
   std::array<LinearImage, 2> color;  ///< linear colour of the views, left then right
   std::vector<ViewTruth> truth;      ///< depth truth of the cameras asked for (none by default)
+  /// The rig's sensor: applied to each view (sensor_model.h) before its sRGB
+  /// encoding, never to the truth; none: the rendered radiance is encoded.
+  std::optional<SensorParams> sensor;
 };
 
 /// Time spent per stage [ms], summed over the pairs written.
 struct PairWriteTimes {
-  double encode_ms = 0.0;  ///< sRGB conversion, PNG and EXR encoding (and the truth files' writes)
+  double encode_ms = 0.0;  ///< sensor model, sRGB conversion, PNG and EXR encoding (and the truth files' writes)
   double write_ms = 0.0;   ///< hashing and atomic writes of the colour images and sidecars
 };
 
@@ -54,7 +59,7 @@ struct PairWriterOptions {
   PngStrategy color_png = PngStrategy::kDefault;
 };
 
-/// Encodes (the two views' PNGs at once), hashes and writes one pair into
+/// Applies the sensor and encodes (the two views' PNGs at once), hashes and writes one pair into
 /// `dataset`, the images in order and the sidecar last; the worker's job.
 void WriteRenderedPair(const std::filesystem::path& dataset, RenderedPair pair, PngStrategy color_png,
                        PairWriteTimes& times);

@@ -1,0 +1,48 @@
+#pragma once
+// The image sensor of a rig (optional "sensor" block, schema aar-rig/3;
+// docs/rendering.md, "Sensor model"): a photon-transfer model after EMVA
+// 1288 (exposure, shot noise, read noise, fixed-pattern noise, full well,
+// ADC), an optical blur and an optional Bayer mosaic. The parameters live
+// here, beside the rig; the renderer applies them (renderer/sensor_model.h).
+
+#include <cstdint>
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+
+namespace aar {
+
+/// Colour filter array in front of the pixels.
+enum class BayerPattern {
+  kNone,  ///< every pixel measures red, green and blue (a three-sensor camera)
+  kRggb,  ///< RGGB mosaic: even rows R G R G ..., odd rows G B G B ...; bilinear demosaicing
+};
+
+/// One sensor, shared by both cameras of the rig (each camera has its own
+/// fixed pattern, drawn from `seed` and the camera). Defaults are those of a
+/// machine-vision CMOS sensor (docs/rendering.md gives the reasoning).
+struct SensorParams {
+  uint64_t seed = 1;             ///< seed of the temporal and fixed-pattern noise
+  double exposure_e = 5000.0;    ///< mean photo-electrons of a pixel at linear radiance 1.0 [e-]
+  double full_well_e = 10000.0;  ///< saturation capacity: photo-electrons are clipped here [e-]
+  double read_noise_e = 6.0;     ///< temporal dark noise, standard deviation [e-]
+  double prnu = 0.01;            ///< photo-response non-uniformity: std. dev. of the per-pixel gain, relative [1]
+  double dsnu_e = 2.0;           ///< dark-signal non-uniformity: std. dev. of the per-pixel offset [e-]
+  int adc_bits = 12;             ///< ADC resolution [bit], 8 to 16
+  int black_level_dn = 64;       ///< ADC offset added to every pixel, so dark noise is not clipped [DN]
+  double blur_sigma_px = 0.0;    ///< optical blur: standard deviation of the Gaussian PSF [px]; 0 = none
+  BayerPattern bayer = BayerPattern::kNone;  ///< colour filter array
+
+  /// System gain K [DN/e-]: the full well maps to the ADC's largest code,
+  /// (2^adc_bits - 1 - black_level_dn) / full_well_e.
+  double GainDnPerElectron() const;
+  /// Throws aar::Error "<where>: sensor.<field> ..." for a value out of range.
+  void Check(const std::string& where) const;
+};
+
+/// Reads a rig's "sensor" object: every field is optional (the defaults
+/// above), an unknown field is refused; `where` names the file.
+SensorParams SensorFromJson(const nlohmann::json& j, const std::string& where);
+/// Every field (JSON object keys are sorted).
+nlohmann::json SensorToJson(const SensorParams& sensor);
+
+}  // namespace aar

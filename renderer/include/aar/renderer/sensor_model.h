@@ -1,0 +1,33 @@
+#pragma once
+// The image sensor (docs/rendering.md, "Sensor model"): turns a rendered
+// linear image (radiance, 1.0 = a white surface in full sun) into what a
+// camera with the rig's SensorParams records, in the same linear units, before
+// the 8-bit sRGB encoding: optical blur, optional Bayer mosaic, the EMVA 1288
+// photon-transfer model (exposure, photon shot noise, read noise, PRNU and
+// DSNU fixed patterns, full well, ADC), demosaicing. Pure CPU, deterministic.
+
+#include <cstdint>
+
+#include "aar/renderer/scene_renderer.h"
+#include "aar/sensor.h"
+
+namespace aar {
+
+/// Which exposure an image is: with the seed, the counter the noise is drawn
+/// from. The temporal noise depends on all three, the fixed pattern on the
+/// camera alone.
+struct SensorExposure {
+  uint64_t sequence = 0;  ///< 0: flight-path frames, 1: calibration pairs
+  uint64_t index = 0;     ///< frame or calibration-pair index
+  uint64_t camera = 0;    ///< 0: left, 1: right
+};
+
+/// The image `radiance` as the sensor records it, normalised back to
+/// radiance: a pixel's value is (DN - black level) / (K * exposure_e), so a
+/// noise-free, unsaturated pixel gives back its radiance (up to the ADC's
+/// step). Each value's random numbers come from a counter-based hash
+/// (splitmix64) of (seed, stream, exposure, sample), never from a sequential
+/// generator: the same bytes whatever the thread, shard or order of frames.
+LinearImage ApplySensorModel(const LinearImage& radiance, const SensorParams& sensor, const SensorExposure& exposure);
+
+}  // namespace aar

@@ -1,0 +1,104 @@
+#include "aar/renderer/sensor_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "aar/renderer/bayer.h"
+#include "aar/renderer/optical_blur.h"
+
+namespace aar {
+namespace {
+
+// Streams of the counter-based generator: the fixed pattern (per camera) and
+// the temporal noise (per exposure) never share numbers.
+constexpr uint64_t kFixedPatternStream = 0x46504eULL;  // "FPN"
+constexpr uint64_t kTemporalStream = 0x54454d50ULL;    // "TEMP"
+
+// splitmix64's finaliser (Steele, Lea and Flood, "Fast splittable
+// pseudorandom number generators", OOPSLA 2014): a bijective 64-bit mix.
+uint64_t SplitMix64(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+uint64_t Mix(uint64_t key, uint64_t value) { return SplitMix64(key ^ SplitMix64(value)); }
+
+struct NormalPair {
+  double first = 0.0;
+  double second = 0.0;
+};
+
+// Two independent standard normal numbers from 64 random bits (Box-Muller on
+// two 32-bit uniforms in (0, 1); the tails are cut at 6.7 sigma).
+NormalPair Normals(uint64_t bits) {
+  const double u1 = (static_cast<double>(bits >> 32) + 0.5) * 0x1p-32;
+  const double u2 = (static_cast<double>(bits & 0xffffffffULL) + 0.5) * 0x1p-32;
+  const double r = std::sqrt(-2.0 * std::log(u1));
+  const double angle = 2.0 * std::numbers::pi * u2;
+  return {r * std::cos(angle), r * std::sin(angle)};
+}
+
+// The photon-transfer model of one sample (EMVA 1288, release 3.1, section 2).
+class PhotonTransfer {
+ public:
+  PhotonTransfer(const SensorParams& sensor, const SensorExposure& exposure)
+      : s_(sensor),
+        gain_(sensor.GainDnPerElectron()),
+        max_dn_(std::ldexp(1.0, sensor.adc_bits) - 1.0),
+        to_radiance_(1.0 / (gain_ * sensor.exposure_e)),
+        fixed_key_(Mix(Mix(sensor.seed, kFixedPatternStream), exposure.camera)),
+        temporal_key_(
+            Mix(Mix(Mix(Mix(sensor.seed, kTemporalStream), exposure.sequence), exposure.index), exposure.camera)) {}
+
+  // `sample`: the value's place in the image (pixel * 3 + channel, or the pixel under a mosaic).
+  float Measure(float radiance, uint64_t sample) const {
+    const NormalPair fixed = Normals(Mix(fixed_key_, sample));
+    const NormalPair temporal = Normals(Mix(temporal_key_, sample));
+    // Mean photo-electrons, with this pixel's gain (PRNU).
+    const double photo_mean =
+        std::max(0.0, static_cast<double>(radiance) * s_.exposure_e * (1.0 + s_.prnu * fixed.first));
+    // Shot noise: Poisson, variance = mean, drawn as its Gaussian approximation; clipped at the full well.
+    const double photo = std::clamp(photo_mean + std::sqrt(photo_mean) * temporal.first, 0.0, s_.full_well_e);
+    // This pixel's dark offset (DSNU) and the read noise.
+    const double dark = s_.dsnu_e * fixed.second + s_.read_noise_e * temporal.second;
+    const double dn = std::clamp(std::floor(gain_ * (photo + dark) + s_.black_level_dn + 0.5), 0.0, max_dn_);
+    return static_cast<float>((dn - s_.black_level_dn) * to_radiance_);
+  }
+
+ private:
+  const SensorParams& s_;
+  double gain_;         // K [DN/e-]
+  double max_dn_;       // the ADC's largest code
+  double to_radiance_;  // DN above black -> radiance
+  uint64_t fixed_key_;
+  uint64_t temporal_key_;
+};
+
+}  // namespace
+
+LinearImage ApplySensorModel(const LinearImage& radiance, const SensorParams& sensor, const SensorExposure& exposure) {
+  const LinearImage blurred = GaussianBlur(radiance, sensor.blur_sigma_px);  // in linear light, before the noise
+  const PhotonTransfer transfer(sensor, exposure);
+  const int width = blurred.width;
+  const int height = blurred.height;
+  if (sensor.bayer == BayerPattern::kNone) {
+    LinearImage out = blurred;
+    for (size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = transfer.Measure(blurred.rgb[i], i);
+    return out;
+  }
+  // RGGB: each pixel measures the one channel its filter passes (ideal filters, no crosstalk).
+  std::vector<float> mosaic(static_cast<size_t>(width) * height);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const size_t pixel = static_cast<size_t>(y) * width + x;
+      mosaic[pixel] = transfer.Measure(blurred.rgb[3 * pixel + RggbChannel(y, x)], pixel);
+    }
+  }
+  return DemosaicRggbBilinear(mosaic, width, height);
+}
+
+}  // namespace aar

@@ -1,0 +1,95 @@
+// The rig's sensor block (common/sensor.h, schema aar-rig/3): defaults,
+// round trip, the schema gate, refusals naming the file and the field, and
+// the committed rigs.
+
+#include "aar/sensor.h"
+
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <nlohmann/json.hpp>
+
+#include "../test_support.h"
+#include "aar/error.h"
+#include "aar/rig.h"
+
+namespace aar {
+namespace {
+
+using test::SourcePath;
+
+std::string ErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+nlohmann::json RigWithSensor(const nlohmann::json& sensor) {
+  nlohmann::json j = RigToJson(LoadRig(SourcePath("scenes/rig.json")));
+  j["schema"] = "aar-rig/3";
+  j["sensor"] = sensor;
+  return j;
+}
+
+TEST(RigSensor, MissingFieldsTakeTheDefaultsAndTheBlockRoundTrips) {
+  const StereoRig rig = RigFromJson(RigWithSensor({{"exposure_e", 1000.0}, {"bayer", "rggb"}}), "r.json");
+  ASSERT_TRUE(rig.sensor.has_value());
+  const SensorParams defaults;
+  EXPECT_EQ(rig.sensor->exposure_e, 1000.0);
+  EXPECT_EQ(rig.sensor->bayer, BayerPattern::kRggb);
+  EXPECT_EQ(rig.sensor->seed, defaults.seed);
+  EXPECT_EQ(rig.sensor->full_well_e, defaults.full_well_e);
+  EXPECT_EQ(rig.sensor->read_noise_e, defaults.read_noise_e);
+  EXPECT_EQ(rig.sensor->adc_bits, defaults.adc_bits);
+  EXPECT_EQ(rig.sensor->blur_sigma_px, 0.0);
+  EXPECT_NEAR(defaults.GainDnPerElectron(), (4095.0 - 64.0) / 10000.0, 1e-15);
+  const nlohmann::json written = RigToJson(rig);
+  EXPECT_EQ(written.at("schema"), "aar-rig/3");
+  EXPECT_EQ(RigToJson(RigFromJson(written, "again.json")), written);
+}
+
+// Off by default: the committed pinhole rig has no sensor and is written back
+// as aar-rig/1; the committed noisy rig has one.
+TEST(RigSensor, CommittedRigsHaveASensorOnlyWhereTheyDeclareIt) {
+  const StereoRig clean = LoadRig(SourcePath("scenes/rig.json"));
+  EXPECT_FALSE(clean.sensor.has_value());
+  EXPECT_EQ(RigToJson(clean).at("schema"), "aar-rig/1");
+  EXPECT_FALSE(RigToJson(clean).contains("sensor"));
+  const StereoRig noisy = LoadRig(SourcePath("scenes/rig-noisy.json"));
+  ASSERT_TRUE(noisy.sensor.has_value());
+  EXPECT_EQ(noisy.sensor->exposure_e, 2000.0);
+  EXPECT_EQ(noisy.sensor->blur_sigma_px, 0.5);
+  EXPECT_EQ(noisy.sensor->bayer, BayerPattern::kRggb);
+}
+
+TEST(RigSensor, BadSensorEntriesAreRefusedNamingTheFileAndField) {
+  nlohmann::json v2 = RigWithSensor(nlohmann::json::object());
+  v2["schema"] = "aar-rig/2";
+  EXPECT_NE(ErrorOf([&] { RigFromJson(v2, "r.json"); }).find("r.json: 'sensor' needs schema \"aar-rig/3\""),
+            std::string::npos);
+  const std::vector<std::pair<nlohmann::json, std::string>> bad = {
+      {{{"read_noise_e", -1.0}}, "r.json: sensor.read_noise_e -1 must be at least 0"},
+      {{{"exposure_e", 0.0}}, "r.json: sensor.exposure_e 0 must be positive"},
+      {{{"exposur_e", 100.0}}, "r.json: sensor.exposur_e is not a sensor field"},
+      {{{"adc_bits", 20}}, "r.json: sensor.adc_bits 20 is outside [8, 16]"},
+      {{{"adc_bits", 10.5}}, "r.json: sensor.adc_bits must be an integer"},
+      {{{"prnu", "1%"}}, "r.json: sensor.prnu must be a number"},
+      {{{"prnu", 0.7}}, "r.json: sensor.prnu 0.7 must be in [0, 0.5]"},
+      {{{"adc_bits", 8}, {"black_level_dn", 300}}, "r.json: sensor.black_level_dn 300 must be in [0, 2^adc_bits - 2]"},
+      {{{"blur_sigma_px", 12.0}}, "r.json: sensor.blur_sigma_px 12 must be in [0, 10]"},
+      {{{"bayer", "bggr"}}, "r.json: sensor.bayer \"bggr\" must be \"none\" or \"rggb\""},
+      {{{"seed", -3}}, "r.json: sensor.seed -3 is outside"},
+  };
+  for (const auto& [sensor, message] : bad) {
+    const std::string error = ErrorOf([&] { RigFromJson(RigWithSensor(sensor), "r.json"); });
+    EXPECT_NE(error.find(message), std::string::npos) << sensor.dump() << " -> " << error;
+  }
+  EXPECT_NE(ErrorOf([&] { RigFromJson(RigWithSensor(3), "r.json"); }).find("r.json: sensor must be an object"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace aar
