@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Calibration and pose error against sensor noise (issue 9, item 4).
 
-    experiments/sensor_noise.py --levels none,4000,1000,250 --msaa 4 --shard 0/10 --work results/sensor-noise
+    experiments/sensor_noise.py --levels none,4000,1000,250 --msaa 4 --shard 0/10 --work results/sensor-noise \
+        [--pairing symmetric]
 
 For each level, the exposure in electrons at radiance 1.0 (`none`: no sensor
 block, the noise-free renderer), writes a rig: scenes/rig.json with a sensor
@@ -13,7 +14,7 @@ them (`aar-analyze calibrate`), analyzes with the default preset and that
 calibration (`aar-analyze run`), and reads the results back. Steps whose
 output exists are skipped (the renders resume by themselves).
 
-Writes WORK/table.md (per level: the sky's noise in 8-bit codes, measured on
+Writes WORK/table.md (WORK/table-PAIRING.md with --pairing; per level: the sky's noise in 8-bit codes, measured on
 the left image of the first frame; the calibration's RMS re-projection
 error, focal and baseline error against the rig; per region the mean
 absolute error of each degree of freedom) and WORK/sensor_noise.png.
@@ -54,7 +55,8 @@ def write_rig(level, path):
 
 def measure(level, args):
     work = Path(args.work) / level
-    dataset, calib_out, run_out = work / "dataset", work / "calibration", work / "run"
+    run_name = f"run-{args.pairing}" if args.pairing else "run"
+    dataset, calib_out, run_out = work / "dataset", work / "calibration", work / run_name
     work.mkdir(parents=True, exist_ok=True)
     rig = work / "rig.json"
     write_rig(level, rig)
@@ -65,8 +67,9 @@ def measure(level, args):
     if not (calib_out / "calibration_report.json").exists():
         run([args.analyze, "calibrate", dataset, "--out", calib_out])
     if not (run_out / "summary.json").exists():
+        pairing = ["--pairing", args.pairing] if args.pairing else []
         run([args.analyze, "run", dataset, "--shard", args.shard, "--calibration", calib_out / "calibration.yaml",
-             "--out", run_out, "--no-progress"])
+             "--out", run_out, "--no-progress"] + pairing)
     calibration = json.loads((calib_out / "calibration_report.json").read_text())
     summary = json.loads((run_out / "summary.json").read_text())["models"]["shelled"]
     first = min(dataset.glob("frames/*_left.png"))
@@ -129,14 +132,18 @@ def main(argv):
     parser.add_argument("--work", default="results/sensor-noise")
     parser.add_argument("--render", default=str(REPO / "build/renderer/aar-render"))
     parser.add_argument("--analyze", default=str(REPO / "build/analyzer/aar-analyze"))
+    parser.add_argument("--pairing", default="",
+                        help="aar-analyze run --pairing (default: the analyzer's); results in WORK/<level>/run-PAIRING")
     args = parser.parse_args(argv)
     rows = [measure(level, args) for level in args.levels.split(",")]
     work = Path(args.work)
-    (work / "table.md").write_text(table(rows))
-    (work / "results.json").write_text(json.dumps(rows, indent=1) + "\n")
-    plot(rows, work / "sensor_noise.png")
+    stem = f"-{args.pairing}" if args.pairing else ""
+    outputs = [work / f"table{stem}.md", work / f"results{stem}.json", work / f"sensor_noise{stem}.png"]
+    outputs[0].write_text(table(rows))
+    outputs[1].write_text(json.dumps(rows, indent=1) + "\n")
+    plot(rows, outputs[2])
     print(table(rows))
-    print(f"wrote {work / 'table.md'}, {work / 'results.json'}, {work / 'sensor_noise.png'}")
+    print("wrote " + ", ".join(str(o) for o in outputs))
 
 
 if __name__ == "__main__":
