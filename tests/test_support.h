@@ -12,6 +12,8 @@
 #include <filesystem>
 #include <string>
 
+#include "aar/error.h"
+
 namespace aar::test {
 
 /// A fresh empty folder under the build tree, removed at destruction; named
@@ -66,6 +68,17 @@ inline std::string CommittedRigName(const ::testing::TestParamInfo<const char*>&
   std::string name = std::filesystem::path(info.param).stem().string();
   std::replace(name.begin(), name.end(), '-', '_');
   return name;
+}
+
+/// The aar::Error message `call` throws ("" when it does not throw).
+template <typename Call>
+std::string ErrorOf(Call call) {
+  try {
+    call();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
 }
 
 }  // namespace aar::test

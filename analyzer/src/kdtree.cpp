@@ -63,13 +63,8 @@ size_t KdTree3d::NearestK(const Eigen::Vector3d& query, size_t k, uint32_t* indi
                           size_t num_seeds, double max_squared_distance) const {
   if (impl_->points.empty()) throw Error("KdTree3d: nearest-neighbour query on an empty tree");
   if (k == 0) return 0;
-  uint32_t seeds[64];
-  const size_t n = std::min({num_seeds, k, std::size(seeds)});
-  std::copy(indices, indices + n, seeds);
   BoundedKnn result(k, indices, squared_distances, max_squared_distance);
-  for (size_t i = 0; i < n; ++i) {
-    if (seeds[i] < impl_->points.size()) result.addPoint(SquaredDistance(query, impl_->points[seeds[i]]), seeds[i]);
-  }
+  result.addSeeds(query, impl_->points, num_seeds);
   impl_->tree->findNeighbors(result, query.data(), nanoflann::SearchParams());
   return result.size();
 }

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "aar/analyzer/kdtree.h"
+#include "aar/analyzer/kdtree.h"  // CheckFinitePoints
 #include "aar/error.h"
 
 namespace aar {
@@ -55,13 +55,8 @@ SheetGrid3d::SheetGrid3d(std::vector<Eigen::Vector3d> points, double cell_scale)
 size_t SheetGrid3d::NearestK(const Eigen::Vector3d& query, size_t k, uint32_t* indices, double* squared_distances,
                              size_t num_seeds, double max_squared_distance) const {
   if (k == 0) return 0;
-  uint32_t seeds[64];
-  const size_t n = std::min({num_seeds, k, std::size(seeds)});
-  std::copy(indices, indices + n, seeds);
   BoundedKnn result(k, indices, squared_distances, max_squared_distance);
-  for (size_t i = 0; i < n; ++i) {
-    if (seeds[i] < points_.size()) result.addPoint(SquaredDistance(query, points_[seeds[i]]), seeds[i]);
-  }
+  result.addSeeds(query, points_, num_seeds);
   // The query's cell, possibly outside the grid (then its rings start where they reach it).
   const double fx = std::floor((query.x() - x0_) / cell_), fy = std::floor((query.y() - y0_) / cell_);
   const double far = 4.0 * static_cast<double>(std::max(nx_, ny_)) + 4.0;  // keeps the longs in range

@@ -29,16 +29,7 @@ namespace {
 using test::SourcePath;
 using test::TempDir;
 
-// The aar::Error message `call` throws ("" when it does not throw).
-template <typename Call>
-std::string ErrorOf(Call call) {
-  try {
-    call();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::ErrorOf;
 
 bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 

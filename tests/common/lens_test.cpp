@@ -22,14 +22,7 @@ using test::SourcePath;
 
 const BrownConrady kLens{-0.15, 0.05, 1e-4, -1e-4, 0.0};
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::ErrorOf;
 
 TEST(Lens, UndistortInvertsDistortOverTheImage) {
   std::mt19937 rng(7);

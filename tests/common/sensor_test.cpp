@@ -18,14 +18,7 @@ namespace {
 
 using test::SourcePath;
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::ErrorOf;
 
 nlohmann::json RigWithSensor(const nlohmann::json& sensor) {
   nlohmann::json j = RigToJson(LoadRig(SourcePath("scenes/rig.json")));

@@ -43,15 +43,4 @@ class KdTree3d : public NearestSearch3d {
 /// or infinite coordinate.
 void CheckFinitePoints(const std::vector<Eigen::Vector3d>& points, const std::string& what);
 
-/// |a - b|^2 summed in nanoflann's order (L2_Simple_Adaptor::evalMetric), so
-/// distances computed with it and inside the tree are bitwise equal.
-inline double SquaredDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  double result = 0.0;
-  for (Eigen::Index i = 0; i < 3; ++i) {
-    const double diff = a[i] - b[i];
-    result += diff * diff;
-  }
-  return result;
-}
-
 }  // namespace aar

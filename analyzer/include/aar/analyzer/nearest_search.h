@@ -3,12 +3,25 @@
 // and the result set its implementations share.
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <limits>
 #include <vector>
 
 namespace aar {
+
+/// |a - b|^2 summed in nanoflann's order (L2_Simple_Adaptor::evalMetric), so
+/// distances computed with it and inside the KD-tree are bitwise equal.
+inline double SquaredDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  double result = 0.0;
+  for (Eigen::Index i = 0; i < 3; ++i) {
+    const double diff = a[i] - b[i];
+    result += diff * diff;
+  }
+  return result;
+}
 
 /// Exact k-nearest search over a fixed 3-D point set (L2).
 class NearestSearch3d {
@@ -37,6 +50,17 @@ class BoundedKnn {
   bool full() const { return count_ == capacity_; }
   /// Squared distance a point must be strictly below to enter.
   double worstDist() const { return count_ < capacity_ ? max_squared_ : squared_[capacity_ - 1]; }
+  /// Adds the seeds a caller of NearestK left in the first `num_seeds` (at
+  /// most the capacity) result slots, skipping indices outside `points`;
+  /// the search then overwrites those slots.
+  void addSeeds(const Eigen::Vector3d& query, const std::vector<Eigen::Vector3d>& points, size_t num_seeds) {
+    uint32_t seeds[64];
+    const size_t n = std::min({num_seeds, capacity_, std::size(seeds)});
+    std::copy(indices_, indices_ + n, seeds);
+    for (size_t i = 0; i < n; ++i) {
+      if (seeds[i] < points.size()) addPoint(SquaredDistance(query, points[seeds[i]]), seeds[i]);
+    }
+  }
   bool addPoint(double squared, uint32_t index) {
     if (!(squared < worstDist())) return true;
     for (size_t i = 0; i < count_; ++i) {
