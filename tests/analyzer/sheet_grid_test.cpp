@@ -1,5 +1,7 @@
 // SheetGrid3d against the KD-tree: the same k nearest points, inside and
 // outside the grid, with seeds and radii.
+#include "aar/analyzer/sheet_grid.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,7 +9,6 @@
 #include <vector>
 
 #include "aar/analyzer/kdtree.h"
-#include "aar/analyzer/sheet_grid.h"
 #include "aar/error.h"
 
 namespace aar {

@@ -40,9 +40,9 @@ class SheetGrid3d : public NearestSearch3d {
 
  private:
   std::vector<Eigen::Vector3d> points_;
-  double x0_ = 0.0, y0_ = 0.0;  // the grid's lower corner
-  double cell_ = 1.0;           // cell side
-  long nx_ = 1, ny_ = 1;        // cells across x and y
+  double x0_ = 0.0, y0_ = 0.0;        // the grid's lower corner
+  double cell_ = 1.0;                 // cell side
+  long nx_ = 1, ny_ = 1;              // cells across x and y
   std::vector<uint32_t> cell_start_;  // cell c lists order_[cell_start_[c] .. cell_start_[c + 1])
   std::vector<uint32_t> order_;       // point indices, by cell (row-major, y then x), ascending within a cell
 };
