@@ -78,7 +78,7 @@ struct NormalEquations {
 // (image position and disparity, each over its noise; a depth error is a
 // disparity error, a lateral one an image-position error), so Euclidean
 // nearest neighbours there are nearest in the noise metric with each point's
-// own ray. The tree holds the surface points facing the camera, mapped with
+// own ray. The grid holds the surface points facing the camera, mapped with
 // the camera placed where the estimate at build time puts it; later
 // estimates move the sensed points against that frozen camera, which changes
 // their rays by the small difference between the two poses.
@@ -90,12 +90,16 @@ struct MetricSearch {
   std::vector<uint32_t> index;                                             // search point -> surface point
   std::unique_ptr<SheetGrid3d> tree;
 
+  // The search-space point of `in_camera` (camera frame); false behind the camera.
+  bool MapFromCamera(const Eigen::Vector3d& in_camera, Eigen::Vector3d& out) const {
+    const double z = in_camera.z();
+    if (!(z > 0.0)) return false;
+    out = Eigen::Vector3d(lateral_scale * in_camera.x() / z, lateral_scale * in_camera.y() / z, disparity_scale / z);
+    return true;
+  }
   // The search-space point of `in_receiver`; false behind the camera.
   bool Map(const Eigen::Vector3d& in_receiver, Eigen::Vector3d& out) const {
-    const Eigen::Vector3d c = camera_from_receiver * in_receiver;
-    if (!(c.z() > 0.0)) return false;
-    out = Eigen::Vector3d(lateral_scale * c.x() / c.z(), lateral_scale * c.y() / c.z(), disparity_scale / c.z());
-    return true;
+    return MapFromCamera(camera_from_receiver * in_receiver, out);
   }
 };
 
@@ -117,7 +121,7 @@ MetricSearch BuildMetricSearch(const std::vector<Eigen::Vector3d>& surface,
   for (size_t j = 0; j < surface.size(); ++j) {
     const Eigen::Vector3d c = search.camera_from_receiver * surface[j];
     Eigen::Vector3d mapped;
-    if ((search.camera_from_receiver.linear() * surface_normals[j]).dot(c) < 0.0 && search.Map(surface[j], mapped)) {
+    if ((search.camera_from_receiver.linear() * surface_normals[j]).dot(c) < 0.0 && search.MapFromCamera(c, mapped)) {
       search.index.push_back(static_cast<uint32_t>(j));
       points.push_back(mapped);
     }
