@@ -199,6 +199,7 @@ CalibrateOutput CalibrateDataset(const std::filesystem::path& dataset, const Cal
                 {"epipolar_algebraic", r.epipolar_algebraic},
                 {"corner_count", r.corner_count},
                 {"used_pairs", r.used_pairs},
+                {"board_depth_m", {r.board_depth_min_m, r.board_depth_max_m}},
                 {"pairs", pairs},
                 {"Q", MatJson(r.calibration.Q)}};
   if (r.distortion_estimated) {

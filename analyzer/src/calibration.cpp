@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -106,6 +107,23 @@ double RayErrorMaxPx(const cv::Mat& m, const cv::Mat& d, const cv::Mat& m_ideal,
 double RotationAngleDeg(const cv::Mat& r) {
   const double c = (cv::trace(r)[0] - 1.0) / 2.0;
   return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / CV_PI;
+}
+
+// The nearest and farthest depth of the board's centre over the views of a
+// calibrateCamera run (its per-view rotation and translation vectors).
+void BoardDepthRange(const BoardSpec& board, const cv::Mat& rvecs, const cv::Mat& tvecs, CalibrationResult& result) {
+  const cv::Vec3d centre(0.5 * (board.inner_corners_x - 1) * board.square_m,
+                         0.5 * (board.inner_corners_y - 1) * board.square_m, 0.0);
+  double nearest = std::numeric_limits<double>::infinity(), farthest = 0.0;
+  for (int i = 0; i < static_cast<int>(rvecs.total()); ++i) {
+    cv::Matx33d rotation;
+    cv::Rodrigues(rvecs.at<cv::Vec3d>(i), rotation);
+    const double depth = (rotation * centre + tvecs.at<cv::Vec3d>(i))[2];
+    nearest = std::min(nearest, depth);
+    farthest = std::max(farthest, depth);
+  }
+  result.board_depth_min_m = nearest;
+  result.board_depth_max_m = farthest;
 }
 
 cv::Mat ReadImage(const std::filesystem::path& path, const std::string& name) {
@@ -264,6 +282,7 @@ CalibrationResult CalibrateFromDetections(std::vector<PairDetection> pairs, cv::
     cv::Mat d1, d2, rvecs, tvecs;
     result.left_rms_px =
         cv::calibrateCamera(object_points, left_points, image_size, c.M1, d1, rvecs, tvecs, flags, criteria);
+    BoardDepthRange(options.board, rvecs, tvecs, result);
     result.right_rms_px =
         cv::calibrateCamera(object_points, right_points, image_size, c.M2, d2, rvecs, tvecs, flags, criteria);
     c.D1 = FirstFive(d1);
@@ -421,7 +440,15 @@ std::string CalibrationResult::BriefReport() const {
         << coefficients(calibration.D2) << "\n";
   }
   out << "  focal " << FormatFixed(calibration.Q.at<double>(2, 3), 3) << " px, baseline "
-      << FormatFixed(cv::norm(calibration.T), 6) << " m\n";
+      << FormatFixed(cv::norm(calibration.T), 6) << " m (z component "
+      << FormatFixed(1e3 * calibration.T.at<double>(2), 2) << " mm)\n";
+  out << "  boards " << FormatFixed(board_depth_min_m, 1) << "-" << FormatFixed(board_depth_max_m, 1)
+      << " m from the left camera";
+  if (board_depth_max_m < 1.5 * board_depth_min_m) {
+    out << ": at one depth the baseline's z component and the focal-length ratio are hard to tell apart (boards at "
+           "other distances separate them: aar-render calib --far-boards)";
+  }
+  out << "\n";
   if (versus_ideal) {
     out << "  versus ideal: focal " << FormatFixed(versus_ideal->focal_error_percent, 4) << " %, baseline "
         << FormatFixed(versus_ideal->baseline_error_percent, 4) << " %, left principal point "

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -278,6 +279,24 @@ TEST(Calibration, EstimatingDistortionStillRecoversTheRig) {
   EXPECT_LT(std::abs(r.versus_ideal->focal_error_percent), 1.0);
   EXPECT_LT(std::abs(r.versus_ideal->baseline_error_percent), 1.0);
   EXPECT_LT(r.epipolar_error_px, 0.05);
+}
+
+TEST(Calibration, ReportsTheBoardDepthRangeOfItsViews) {
+  const CalibrationResult& r = SyntheticCalibration();
+  const BoardSpec board;
+  const Eigen::Vector3d centre(0.5 * (board.inner_corners_x - 1) * board.square_m,
+                               0.5 * (board.inner_corners_y - 1) * board.square_m, 0.0);
+  double nearest = std::numeric_limits<double>::infinity(), farthest = 0.0;
+  for (const Eigen::Isometry3d& left_from_board : Synthetic().left_from_board) {
+    nearest = std::min(nearest, (left_from_board * centre).z());
+    farthest = std::max(farthest, (left_from_board * centre).z());
+  }
+  ASSERT_LT(nearest, farthest);
+  // The views' poses come from calibrateCamera: within a few millimetres per 15 m.
+  EXPECT_NEAR(r.board_depth_min_m, nearest, 1e-3 * nearest);
+  EXPECT_NEAR(r.board_depth_max_m, farthest, 1e-3 * farthest);
+  const bool one_depth = farthest < 1.5 * nearest;
+  EXPECT_EQ(r.BriefReport().find("hard to tell apart") != std::string::npos, one_depth) << r.BriefReport();
 }
 
 TEST(Calibration, QPercentErrorIsElementwiseAndZeroWhereIdealIsZero) {

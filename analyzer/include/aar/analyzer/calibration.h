@@ -133,7 +133,16 @@ struct CalibrationResult {
   double epipolar_algebraic = 0.0;  ///< 1/N sum_i |p_r^T F p_l| with pixel coordinates (F as stereoCalibrate scales it)
   size_t corner_count = 0;          ///< N: corners per image summed over the used pairs
   size_t used_pairs = 0;
-  bool distortion_estimated = false;            ///< D1, D2 were fitted (Brown-Conrady), not fixed at zero
+  bool distortion_estimated = false;  ///< D1, D2 were fitted (Brown-Conrady), not fixed at zero
+  /// Depth of the board's centre in the left camera (its calibrateCamera
+  /// pose), nearest and farthest over the used pairs [m]. Boards that all lie
+  /// at one depth z leave the baseline's component along the optical axis
+  /// (T_z) and the ratio of the two focal lengths nearly interchangeable: the
+  /// right camera moved T_z forward scales its image of the board by
+  /// T_z / z, as a focal length larger by that fraction does. An error in
+  /// T_z turns the re-projected scene by about T_z / b about the camera's
+  /// vertical axis (docs/analysis.md, step 1).
+  double board_depth_min_m = 0.0, board_depth_max_m = 0.0;
   std::vector<PairDetection> pairs;             ///< every pair given, in order, with status
   std::optional<IdealComparison> versus_ideal;  ///< when an ideal calibration was given / found
 
