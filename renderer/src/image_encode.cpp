@@ -88,9 +88,11 @@ cv::Mat ToSrgb8(const LinearImage& image) {
 
 std::string EncodePng(const cv::Mat& bgr8, PngStrategy strategy) {
   std::vector<uint8_t> bytes;
-  std::vector<int> settings = {cv::IMWRITE_PNG_COMPRESSION, 3};
-  if (strategy == PngStrategy::kRunLength)
-    settings.insert(settings.end(), {cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_RLE});
+  // Without IMWRITE_PNG_COMPRESSION OpenCV (grfmt_png.cpp) tunes libpng for
+  // speed: PNG_FILTER_SUB and Z_BEST_SPEED.
+  const std::vector<int> settings = strategy == PngStrategy::kFast
+                                        ? std::vector<int>{cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_RLE}
+                                        : std::vector<int>{cv::IMWRITE_PNG_COMPRESSION, 3};
   if (!cv::imencode(".png", bgr8, bytes, settings)) throw Error("PNG encoding failed");
   return std::string(bytes.begin(), bytes.end());
 }

@@ -219,7 +219,7 @@ RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size
   const auto start = std::chrono::steady_clock::now();
   // Pair k is encoded and written while pair k + 1 renders.
   PairWriterOptions writing;
-  if (options.background.enabled() && kind == "frame") writing.color_png = PngStrategy::kRunLength;
+  if (options.background.enabled() && kind == "frame") writing.color_png = PngStrategy::kFast;
   PairWriter writer(options.output, writing);
   for (size_t index : selected) {
     if (SidecarVerified(options.output, SidecarPath(options.output, kind, index))) {
