@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <vector>
 
 namespace aar {
@@ -19,14 +20,28 @@ std::vector<double> GaussianKernel(double sigma_px) {
   return kernel;
 }
 
-// One pass along rows (step 3, the next pixel of a row) or columns (step 3 * width).
+// One pass along rows (step 3, the next pixel of a row) or columns (step 3 *
+// width). Each output value sums kernel[k] * in[tap k] for k = 0 .. 2 radius
+// in that order, in double, with taps beyond the border clamped to it; the
+// interior skips the clamping, which changes no tap and so no bit.
 void Convolve(const std::vector<float>& in, std::vector<float>& out, int width, int height, bool along_rows,
               const std::vector<double>& kernel) {
   const int radius = static_cast<int>(kernel.size() / 2);
   const int length = along_rows ? width : height;
+  const ptrdiff_t step = along_rows ? 3 : 3 * static_cast<ptrdiff_t>(width);  // between taps, in floats
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const int at = along_rows ? x : y;
+      const size_t centre = 3 * (static_cast<size_t>(y) * width + x);
+      if (at >= radius && at + radius < length) {
+        const float* first = &in[centre] - radius * step;
+        for (int c = 0; c < 3; ++c) {
+          double sum = 0.0;
+          for (size_t k = 0; k < kernel.size(); ++k) sum += kernel[k] * first[static_cast<ptrdiff_t>(k) * step + c];
+          out[centre + c] = static_cast<float>(sum);
+        }
+        continue;
+      }
       for (int c = 0; c < 3; ++c) {
         double sum = 0.0;
         for (int i = -radius; i <= radius; ++i) {
@@ -34,7 +49,7 @@ void Convolve(const std::vector<float>& in, std::vector<float>& out, int width, 
           const size_t index = along_rows ? (static_cast<size_t>(y) * width + p) : (static_cast<size_t>(p) * width + x);
           sum += kernel[i + radius] * in[3 * index + c];
         }
-        out[3 * (static_cast<size_t>(y) * width + x) + c] = static_cast<float>(sum);
+        out[centre + c] = static_cast<float>(sum);
       }
     }
   }

@@ -38,7 +38,7 @@ void WriteDepthTruth(const std::filesystem::path& dataset, const std::string& pr
 std::string EncodeView(const RenderedPair& pair, size_t view, PngStrategy color_png) {
   if (!pair.sensor) return EncodePng(ToSrgb8(pair.color[view]), color_png);
   const SensorExposure exposure{pair.sidecar.kind == "calib" ? 1u : 0u, pair.sidecar.index, view};
-  return EncodePng(ToSrgb8(ApplySensorModel(pair.color[view], *pair.sensor, exposure)), color_png);
+  return EncodePng(ToSrgb8(pair.sensor->Apply(pair.color[view], exposure)), color_png);
 }
 
 }  // namespace

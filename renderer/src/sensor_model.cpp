@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <mutex>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include "aar/renderer/bayer.h"
@@ -50,21 +53,19 @@ class PhotonTransfer {
         gain_(sensor.GainDnPerElectron()),
         max_dn_(std::ldexp(1.0, sensor.adc_bits) - 1.0),
         to_radiance_(1.0 / (gain_ * sensor.exposure_e)),
-        fixed_key_(Mix(Mix(sensor.seed, kFixedPatternStream), exposure.camera)),
         temporal_key_(
             Mix(Mix(Mix(Mix(sensor.seed, kTemporalStream), exposure.sequence), exposure.index), exposure.camera)) {}
 
-  // `sample`: the value's place in the image (pixel * 3 + channel, or the pixel under a mosaic).
-  float Measure(float radiance, uint64_t sample) const {
-    const NormalPair fixed = Normals(Mix(fixed_key_, sample));
+  // `sample`: the value's place in the image (pixel * 3 + channel, or the
+  // pixel under a mosaic); `pixel_gain` and `dark_e` its fixed pattern.
+  float Measure(float radiance, uint64_t sample, double pixel_gain, double dark_e) const {
     const NormalPair temporal = Normals(Mix(temporal_key_, sample));
     // Mean photo-electrons, with this pixel's gain (PRNU).
-    const double photo_mean =
-        std::max(0.0, static_cast<double>(radiance) * s_.exposure_e * (1.0 + s_.prnu * fixed.first));
+    const double photo_mean = std::max(0.0, static_cast<double>(radiance) * s_.exposure_e * pixel_gain);
     // Shot noise: Poisson, variance = mean, drawn as its Gaussian approximation; clipped at the full well.
     const double photo = std::clamp(photo_mean + std::sqrt(photo_mean) * temporal.first, 0.0, s_.full_well_e);
     // This pixel's dark offset (DSNU) and the read noise.
-    const double dark = s_.dsnu_e * fixed.second + s_.read_noise_e * temporal.second;
+    const double dark = dark_e + s_.read_noise_e * temporal.second;
     const double dn = std::clamp(std::floor(gain_ * (photo + dark) + s_.black_level_dn + 0.5), 0.0, max_dn_);
     return static_cast<float>((dn - s_.black_level_dn) * to_radiance_);
   }
@@ -74,31 +75,65 @@ class PhotonTransfer {
   double gain_;         // K [DN/e-]
   double max_dn_;       // the ADC's largest code
   double to_radiance_;  // DN above black -> radiance
-  uint64_t fixed_key_;
   uint64_t temporal_key_;
 };
 
 }  // namespace
 
-LinearImage ApplySensorModel(const LinearImage& radiance, const SensorParams& sensor, const SensorExposure& exposure) {
-  const LinearImage blurred = GaussianBlur(radiance, sensor.blur_sigma_px);  // in linear light, before the noise
-  const PhotonTransfer transfer(sensor, exposure);
+struct SensorModel::FixedPattern {
+  std::vector<double> pixel_gain;  // 1 + PRNU * n1 per sample
+  std::vector<double> dark_e;      // DSNU * n2 per sample [e-]
+};
+
+SensorModel::SensorModel(SensorParams params) : params_(std::move(params)) {}
+
+SensorModel::~SensorModel() = default;
+
+const SensorModel::FixedPattern& SensorModel::Pattern(uint64_t camera, size_t samples) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  std::unique_ptr<FixedPattern>& pattern = patterns_[{camera, samples}];
+  if (!pattern) {
+    pattern = std::make_unique<FixedPattern>();
+    pattern->pixel_gain.resize(samples);
+    pattern->dark_e.resize(samples);
+    const uint64_t key = Mix(Mix(params_.seed, kFixedPatternStream), camera);
+    for (size_t i = 0; i < samples; ++i) {
+      const NormalPair fixed = Normals(Mix(key, i));
+      pattern->pixel_gain[i] = 1.0 + params_.prnu * fixed.first;
+      pattern->dark_e[i] = params_.dsnu_e * fixed.second;
+    }
+  }
+  return *pattern;
+}
+
+LinearImage SensorModel::Apply(const LinearImage& radiance, const SensorExposure& exposure) const {
+  const LinearImage blurred = GaussianBlur(radiance, params_.blur_sigma_px);  // in linear light, before the noise
+  const PhotonTransfer transfer(params_, exposure);
   const int width = blurred.width;
   const int height = blurred.height;
-  if (sensor.bayer == BayerPattern::kNone) {
+  if (params_.bayer == BayerPattern::kNone) {
+    const FixedPattern& fixed = Pattern(exposure.camera, blurred.rgb.size());
     LinearImage out = blurred;
-    for (size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = transfer.Measure(blurred.rgb[i], i);
+    for (size_t i = 0; i < out.rgb.size(); ++i) {
+      out.rgb[i] = transfer.Measure(blurred.rgb[i], i, fixed.pixel_gain[i], fixed.dark_e[i]);
+    }
     return out;
   }
   // RGGB: each pixel measures the one channel its filter passes (ideal filters, no crosstalk).
+  const FixedPattern& fixed = Pattern(exposure.camera, static_cast<size_t>(width) * height);
   std::vector<float> mosaic(static_cast<size_t>(width) * height);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const size_t pixel = static_cast<size_t>(y) * width + x;
-      mosaic[pixel] = transfer.Measure(blurred.rgb[3 * pixel + RggbChannel(y, x)], pixel);
+      mosaic[pixel] = transfer.Measure(blurred.rgb[3 * pixel + RggbChannel(y, x)], pixel, fixed.pixel_gain[pixel],
+                                       fixed.dark_e[pixel]);
     }
   }
   return DemosaicRggbBilinear(mosaic, width, height);
+}
+
+LinearImage ApplySensorModel(const LinearImage& radiance, const SensorParams& sensor, const SensorExposure& exposure) {
+  return SensorModel(sensor).Apply(radiance, exposure);
 }
 
 }  // namespace aar

@@ -18,6 +18,7 @@
 #include "aar/renderer/pair_writer.h"
 #include "aar/renderer/projection.h"
 #include "aar/renderer/scene_renderer.h"
+#include "aar/renderer/sensor_model.h"
 #include "aar/stereo_calibration.h"
 
 namespace aar {
@@ -73,6 +74,8 @@ struct Session {
   // With lens distortion (docs/rendering.md): both cameras are rendered as
   // pinhole cameras on one grown image and resampled; empty for a pinhole rig.
   std::optional<LensResampler> left_lens, right_lens;
+  // The rig's sensor, its fixed patterns drawn once for the whole run; null without one.
+  std::shared_ptr<const SensorModel> sensor;
 
   const Camera& RigCamera(const std::string& side) const { return side == "left" ? rig.left : rig.right; }
   const std::optional<LensResampler>& Lens(const std::string& side) const {
@@ -139,6 +142,7 @@ nlohmann::json SensorJson(const SensorParams& sensor) {
 Session OpenSession(const RenderJobOptions& options, const StereoRig& rig, const BackgroundOptions& background) {
   Session s;
   s.rig = rig;
+  if (rig.sensor) s.sensor = std::make_shared<const SensorModel>(*rig.sensor);
   VulkanContextOptions vk;
   vk.device_filter = options.device;
   s.context = std::make_unique<VulkanContext>(vk);
@@ -183,7 +187,7 @@ RenderedPair RenderPair(Session& session, const std::vector<RenderItem>& items, 
   RenderedPair pair;
   pair.dir = dir;
   pair.sidecar = std::move(sidecar);
-  pair.sensor = session.rig.sensor;
+  pair.sensor = session.sensor;
   for (size_t view = 0; view < pair.color.size(); ++view) {
     const std::string side = view == 0 ? "left" : "right";
     ViewTimings timings;

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <thread>
 #include <vector>
 
 #include "aar/renderer/bayer.h"
@@ -172,6 +173,35 @@ TEST(SensorModel, SameSeedGivesTheSameValuesAnotherSeedOrExposureOthers) {
       for (size_t i = 0; i < a.rgb.size(); ++i) differ += a.rgb[i] != b.rgb[i];
       EXPECT_GT(differ, a.rgb.size() * 9 / 10);
     }
+  }
+}
+
+// One SensorModel for a whole render keeps each camera's fixed pattern: its
+// images are those of a fresh model per image, whatever the order of cameras,
+// exposures and image sizes, and from two threads at once.
+TEST(SensorModel, KeptFixedPatternGivesTheValuesOfAFreshModel) {
+  LinearImage image = Flat(96, 64, 0.2f, 0.4f, 0.6f);
+  for (size_t i = 0; i < image.rgb.size(); ++i) image.rgb[i] *= 0.5f + 0.5f * static_cast<float>(i % 7) / 7.0f;
+  const LinearImage small = Flat(32, 16, 0.3f, 0.3f, 0.3f);
+  SensorParams sensor;
+  sensor.exposure_e = 800.0;
+  sensor.prnu = 0.02;
+  sensor.dsnu_e = 3.0;
+  for (BayerPattern bayer : {BayerPattern::kNone, BayerPattern::kRggb}) {
+    sensor.bayer = bayer;
+    const SensorModel model(sensor);
+    const std::vector<SensorExposure> exposures = {{0, 5, 1}, {0, 5, 0}, {1, 2, 1}, {0, 6, 0}};
+    for (const SensorExposure& e : exposures) {
+      EXPECT_EQ(model.Apply(image, e).rgb, ApplySensorModel(image, sensor, e).rgb) << e.index << " " << e.camera;
+      EXPECT_EQ(model.Apply(small, e).rgb, ApplySensorModel(small, sensor, e).rgb) << e.index << " " << e.camera;
+    }
+    const SensorModel shared(sensor);
+    std::vector<float> right;
+    std::thread other([&] { right = shared.Apply(image, SensorExposure{0, 9, 1}).rgb; });
+    const std::vector<float> left = shared.Apply(image, SensorExposure{0, 9, 0}).rgb;
+    other.join();
+    EXPECT_EQ(left, ApplySensorModel(image, sensor, SensorExposure{0, 9, 0}).rgb);
+    EXPECT_EQ(right, ApplySensorModel(image, sensor, SensorExposure{0, 9, 1}).rgb);
   }
 }
 

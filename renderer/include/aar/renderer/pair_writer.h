@@ -12,6 +12,7 @@
 #include <deque>
 #include <exception>
 #include <filesystem>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -21,6 +22,7 @@
 #include "aar/dataset.h"
 #include "aar/renderer/image_encode.h"
 #include "aar/renderer/scene_renderer.h"
+#include "aar/renderer/sensor_model.h"
 #include "aar/sensor.h"
 
 namespace aar {
@@ -40,7 +42,7 @@ struct RenderedPair {
   std::vector<ViewTruth> truth;      ///< depth truth of the cameras asked for (none by default)
   /// The rig's sensor: applied to each view (sensor_model.h) before its sRGB
   /// encoding, never to the truth; none: the rendered radiance is encoded.
-  std::optional<SensorParams> sensor;
+  std::shared_ptr<const SensorModel> sensor;
 };
 
 /// Time spent per stage [ms], summed over the pairs written.
@@ -54,8 +56,8 @@ struct PairWriterOptions {
   /// the renderer waits beyond. Each holds its linear images (19 MB a pair at
   /// 1024 x 768), so this bounds the memory.
   size_t max_queued_pairs = 2;
-  /// zlib strategy of the colour images (masks keep the default): run-length
-  /// over a textured background.
+  /// PNG settings of the colour images (masks keep the default): kFast over
+  /// a textured background.
   PngStrategy color_png = PngStrategy::kDefault;
 };
 

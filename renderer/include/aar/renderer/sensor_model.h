@@ -7,6 +7,10 @@
 // DSNU fixed patterns, full well, ADC), demosaicing. Pure CPU, deterministic.
 
 #include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <utility>
 
 #include "aar/renderer/scene_renderer.h"
 #include "aar/sensor.h"
@@ -29,5 +33,29 @@ struct SensorExposure {
 /// (splitmix64) of (seed, stream, exposure, sample), never from a sequential
 /// generator: the same bytes whatever the thread, shard or order of frames.
 LinearImage ApplySensorModel(const LinearImage& radiance, const SensorParams& sensor, const SensorExposure& exposure);
+
+/// The same model for a whole render: each camera's fixed pattern (PRNU and
+/// DSNU per sample, two doubles: 38 MB for a 1024 x 768 RGB camera, 13 MB
+/// under a mosaic) is drawn once, on first use, and kept, so each exposure
+/// draws only its temporal noise. Apply gives the bytes ApplySensorModel
+/// gives; safe to call from several threads.
+class SensorModel {
+ public:
+  explicit SensorModel(SensorParams params);
+  ~SensorModel();
+  SensorModel(const SensorModel&) = delete;
+  SensorModel& operator=(const SensorModel&) = delete;
+
+  LinearImage Apply(const LinearImage& radiance, const SensorExposure& exposure) const;
+  const SensorParams& params() const { return params_; }
+
+ private:
+  struct FixedPattern;
+  const FixedPattern& Pattern(uint64_t camera, size_t samples) const;
+
+  SensorParams params_;
+  mutable std::mutex mutex_;
+  mutable std::map<std::pair<uint64_t, size_t>, std::unique_ptr<FixedPattern>> patterns_;
+};
 
 }  // namespace aar
