@@ -223,7 +223,8 @@ RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size
   const auto start = std::chrono::steady_clock::now();
   // Pair k is encoded and written while pair k + 1 renders.
   PairWriterOptions writing;
-  if (options.background.enabled() && kind == "frame") writing.color_png = PngStrategy::kFast;
+  // Texture behind the receiver or sensor noise: deflate finds few matches, so the fast settings.
+  if ((options.background.enabled() && kind == "frame") || session.sensor) writing.color_png = PngStrategy::kFast;
   PairWriter writer(options.output, writing);
   for (size_t index : selected) {
     if (SidecarVerified(options.output, SidecarPath(options.output, kind, index))) {
