@@ -41,7 +41,8 @@ def parse_args(argv, registered):
                              "with flightpaths/conops-level.csv (the T-tail out of view at 39.2-36.6 m), into "
                              "conops-thesis-x16, report in reports/conops-thesis unless --out, with the same frames "
                              "of the default geometry as a control. `conops` alone: default; `all`: both, the thesis "
-                             "geometry's report in OUT/conops-thesis, unless one is named")
+                             "geometry's report in OUT/conops-thesis (`all --quick`: default only), unless one is "
+                             "named")
     common.add_argument("--shard", metavar="K/N",
                         help="conops only: render and analyze the frames i with i %% N == K (a subset spread "
                              "over the whole path) instead of every frame")
@@ -58,7 +59,8 @@ def parse_args(argv, registered):
         sub.add_parser(name, parents=[common], help=experiment.help, description=experiment.help)
     count = _COUNTS[len(registered)] if len(registered) < len(_COUNTS) else str(len(registered))
     sub.add_parser("all", parents=[common], help=f"the {count} experiments in turn (conops on both geometries)",
-                   description=f"{_in_turn(list(registered))} in turn; conops on both geometries (--geometry)")
+                   description=f"{_in_turn(list(registered))} in turn; conops on both geometries (--geometry; "
+                               "with --quick on the default one unless --geometry thesis)")
     return parser.parse_args(argv)
 
 
@@ -106,15 +108,17 @@ def main(argv=None):
             print(f"aar_experiment: {Path(args.build) / tool} not found or not executable (build first: "
                   "bash scripts/build.sh)", file=sys.stderr)
             return 2
-    # Jobs: (report name, experiment, geometry). `all` runs Experiment 2 on both geometries unless
-    # --geometry names one.
+    # Jobs: (report name, experiment, geometry). `all` runs Experiment 2 on both geometries (`all --quick` on
+    # the default one only: the thesis geometry's quick run, 28 frames on each geometry and nine analyses,
+    # tripled the quick conops time) unless --geometry names one.
     if args.experiment == "all":
         jobs = []
         for n in registered:
             if n != "conops":
                 jobs.append((n, n, None))
                 continue
-            for geometry in ([args.geometry] if args.geometry else ["default", "thesis"]):
+            both = ["default"] if args.quick else ["default", "thesis"]
+            for geometry in ([args.geometry] if args.geometry else both):
                 jobs.append(("conops-thesis" if geometry == "thesis" else n, n, geometry))
         out_root = Path(args.out).resolve() if args.out else ROOT / "reports"
         outs = {j[0]: out_root / j[0] for j in jobs}
