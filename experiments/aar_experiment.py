@@ -7,10 +7,12 @@ thesis's, with the ratio ours/thesis), PNG plots, the exact command lines,
 dataset manifest hashes, software versions and the machine.
 
   characterization  thesis Experiment 1: Tables 1-3, Figures 15-19
-  conops            thesis Experiment 2: Tables 4-5, Figures 20-24
+  conops            thesis Experiment 2: Tables 4-5, Figures 20-24; --geometry thesis
+                    on the thesis rig, where the receiver's tail leaves the view
   msaa              thesis Experiment 3: Tables 6-11, Figures 25-32
   determinism       thesis Appendix A: Figures 33-34
-  all               the four, in that order
+  all               the four, in that order (conops on both geometries; with
+                    --quick on the default one unless --geometry thesis)
 
 Datasets are rendered into --datasets (default datasets/) and reused: calling
 aar-render again on a dataset skips its verified frames. --quick analyzes a

@@ -35,6 +35,14 @@ def parse_args(argv, registered):
                         help="conops only: what is behind the receiver (aar-render render --background); other "
                              "than flat, the path is rendered with depth truth into conops-x16-BACKGROUND and the "
                              "report adds the sensed cloud against the truth (default: flat, the thesis's sky)")
+    common.add_argument("--geometry", choices=("default", "thesis"),
+                        help="conops only: the rig and flight path. default: scenes/rig.json with "
+                             "flightpaths/conops.csv (the receiver always in view); thesis: scenes/rig-thesis.json "
+                             "with flightpaths/conops-level.csv (the T-tail out of view at 39.2-36.6 m), into "
+                             "conops-thesis-x16, report in reports/conops-thesis unless --out, with the same frames "
+                             "of the default geometry as a control. `conops` alone: default; `all`: both, the thesis "
+                             "geometry's report in OUT/conops-thesis (`all --quick`: default only), unless one is "
+                             "named")
     common.add_argument("--shard", metavar="K/N",
                         help="conops only: render and analyze the frames i with i %% N == K (a subset spread "
                              "over the whole path) instead of every frame")
@@ -50,8 +58,9 @@ def parse_args(argv, registered):
     for name, experiment in registered.items():
         sub.add_parser(name, parents=[common], help=experiment.help, description=experiment.help)
     count = _COUNTS[len(registered)] if len(registered) < len(_COUNTS) else str(len(registered))
-    sub.add_parser("all", parents=[common], help=f"the {count} experiments in turn",
-                   description=f"{_in_turn(list(registered))} in turn")
+    sub.add_parser("all", parents=[common], help=f"the {count} experiments in turn (conops on both geometries)",
+                   description=f"{_in_turn(list(registered))} in turn; conops on both geometries (--geometry; "
+                               "with --quick on the default one unless --geometry thesis)")
     return parser.parse_args(argv)
 
 
@@ -99,13 +108,26 @@ def main(argv=None):
             print(f"aar_experiment: {Path(args.build) / tool} not found or not executable (build first: "
                   "bash scripts/build.sh)", file=sys.stderr)
             return 2
-    names = list(registered) if args.experiment == "all" else [args.experiment]
+    # Jobs: (report name, experiment, geometry). `all` runs Experiment 2 on both geometries (`all --quick` on
+    # the default one only: the thesis geometry's quick run, 28 frames on each geometry and nine analyses,
+    # tripled the quick conops time) unless --geometry names one.
     if args.experiment == "all":
+        jobs = []
+        for n in registered:
+            if n != "conops":
+                jobs.append((n, n, None))
+                continue
+            both = ["default"] if args.quick else ["default", "thesis"]
+            for geometry in ([args.geometry] if args.geometry else both):
+                jobs.append(("conops-thesis" if geometry == "thesis" else n, n, geometry))
         out_root = Path(args.out).resolve() if args.out else ROOT / "reports"
-        outs = {n: out_root / n for n in names}
+        outs = {j[0]: out_root / j[0] for j in jobs}
     else:
-        out_root = Path(args.out).resolve() if args.out else ROOT / "reports" / names[0]
-        outs = {names[0]: out_root}
+        geometry = args.geometry if args.experiment == "conops" else None
+        job = ("conops-thesis" if geometry == "thesis" else args.experiment, args.experiment, geometry)
+        jobs = [job]
+        out_root = Path(args.out).resolve() if args.out else ROOT / "reports" / job[0]
+        outs = {job[0]: out_root}
     Path(args.datasets).mkdir(parents=True, exist_ok=True)
     analyzer_version()
     if not args.no_snapshot and not _snapshot_tools(args, out_root):
@@ -115,15 +137,15 @@ def main(argv=None):
     timings = []
     t_all = time.monotonic()
     try:
-        for name in names:
+        for name, experiment, geometry in jobs:
             outs[name].mkdir(parents=True, exist_ok=True)
             for old in outs[name].glob("*.png"):
                 old.unlink()
-            ctx = Ctx(name, args, outs[name], memo)
+            ctx = Ctx(name, argparse.Namespace(**dict(vars(args), geometry=geometry)), outs[name], memo)
             LOG(f"{name}: start ({'quick' if args.quick else 'full'}; report in {rel(outs[name])}, "
                 f"datasets in {rel(args.datasets)})")
             t = time.monotonic()
-            written.append(registered[name].run(ctx))
+            written.append(registered[experiment].run(ctx))
             timings.append((name, time.monotonic() - t))
             LOG(f"{name}: finished in {timings[-1][1]:.1f} s")
     except ExperimentError as e:

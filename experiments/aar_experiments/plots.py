@@ -92,6 +92,51 @@ def panels_vs_range(path, title, panels, guides=None, shade=None):
     return _save(fig, path)
 
 
+def panels_vs_x(path, title, xlabel, panels, edges=(), shades=(), xlim=None, lines=False):
+    """Several stacked panels sharing an arbitrary x axis (frame index, or a range interval).
+
+    panels: list of (ylabel, series) or (ylabel, series, (ymin, ymax)); a series is (label, xs, ys) or
+    (label, xs, ys, colour). edges: (x, label) vertical dashed lines, labelled at the top of the first panel
+    (region boundaries). shades: (lo, hi, label) bands drawn on every panel. lines: join each series' points.
+    """
+    fig, axes = plt.subplots(len(panels), 1, figsize=(9, 1.9 * len(panels) + 0.9), sharex=True)
+    if len(panels) == 1:
+        axes = [axes]
+    for i, (ax, panel) in enumerate(zip(axes, panels)):
+        ylabel, series = panel[0], panel[1]
+        for k, s in enumerate(series):
+            label, xs, ys = s[0], s[1], s[2]
+            color = s[3] if len(s) > 3 else _COLORS[k % len(_COLORS)]
+            if lines:
+                ax.plot(xs, ys, color=color, linewidth=0.6, alpha=0.7)
+            ax.scatter(xs, ys, s=7, marker=_MARKERS[k % len(_MARKERS)], color=color, label=label,
+                       linewidths=0.5)
+        if len(panel) > 2:
+            ax.set_ylim(*panel[2])
+        elif not ylabel.startswith("fraction"):
+            ax.axhline(0.0, color="black", linewidth=0.6)
+        for k, (lo, hi, label) in enumerate(shades):
+            ax.axvspan(lo, hi, color=("tab:red", "tab:gray")[k % 2], alpha=0.12, label=label if i == 0 else None)
+        for x, label in edges:
+            ax.axvline(x, color="0.5", linestyle="--", linewidth=0.8)
+        ax.set_ylabel(ylabel, fontsize=8)
+        ax.tick_params(labelsize=8)
+        ax.grid(True, linewidth=0.3)
+    if xlim:
+        axes[0].set_xlim(*xlim)
+    lo, hi = axes[0].get_xlim()
+    ymax = axes[0].get_ylim()[1]
+    for x, label in edges:
+        if lo <= x <= hi:
+            axes[0].text(x, ymax, " " + label, ha="left", va="bottom", fontsize=7, color="0.35")
+    axes[0].legend(fontsize=7, loc="lower left", ncol=2)
+    if len(axes) > 1 and len(panels[1][1]) > 1:
+        axes[1].legend(fontsize=7, loc="best")
+    axes[0].set_title(title, fontsize=10, pad=14)
+    axes[-1].set_xlabel(xlabel)
+    return _save(fig, path)
+
+
 def grouped_bars(path, title, ylabel, categories, series, logy=False):
     """Grouped bars: series is a list of (label, values per category)."""
     fig, ax = plt.subplots(figsize=(8, 4.5))

@@ -21,11 +21,15 @@ ROOT = Path(__file__).resolve().parents[2]
 
 # Frame selections. None = every frame of the flight path. ("shard", "K/N")
 # = frames i with i % N == K, spread over the whole path.
+# ("frames", "a:b") = the frames a to b - 1.
 SELECTIONS = {
-    "full": {"char": None, "conops": None, "determinism": ("shard", "0/15"), "determinism_runs": 10},
+    "full": {"char": None, "conops": None, "conops_thesis": None, "determinism": ("shard", "0/15"),
+             "determinism_runs": 10},
     # char 0/56: 10 frames, 4 in 20-60 m, 5 in 60-110 m; conops 0/61: 10
-    # frames, 2 in A, 4 in B, 4 in C.
-    "quick": {"char": ("shard", "0/56"), "conops": ("shard", "0/61"),
+    # frames, 2 in A, 4 in B, 4 in C; conops_thesis (the thesis geometry,
+    # conops.py): 28 frames at 40.5-35.4 m, the 14 with the tail out of view
+    # (343-356) and 7 on either side.
+    "quick": {"char": ("shard", "0/56"), "conops": ("shard", "0/61"), "conops_thesis": ("frames", "336:364"),
               "determinism": ("shard", "0/61"), "determinism_runs": 10},
 }
 
@@ -65,7 +69,23 @@ def selection_args(selection):
 def selection_text(selection):
     if selection is None:
         return "all frames"
-    return f"frames i with i % {selection[1].split('/')[1]} == {selection[1].split('/')[0]} (--shard {selection[1]})"
+    kind, value = selection
+    if kind == "frames":
+        a, b = value.split(":")
+        return f"frames {a} to {int(b) - 1} (--frames {value})"
+    return f"frames i with i % {value.split('/')[1]} == {value.split('/')[0]} (--shard {value})"
+
+
+def selected_frames(selection, count):
+    """The frame indices a selection picks from a flight path of `count` samples, ascending."""
+    if selection is None:
+        return list(range(count))
+    kind, value = selection
+    if kind == "frames":
+        a, b = (int(v) for v in value.split(":"))
+        return list(range(max(a, 0), min(b, count)))
+    k, n = (int(v) for v in value.split("/"))
+    return list(range(k, count, n))
 
 
 class Log:
@@ -93,9 +113,10 @@ class Ctx:
         self.out = Path(out).resolve()
         self.quick = args.quick
         self.background = getattr(args, "background", "flat")
+        self.geometry = getattr(args, "geometry", None) or "default"
         self.sel = SELECTIONS["quick" if args.quick else "full"]
         if getattr(args, "shard", None):
-            self.sel = dict(self.sel, conops=("shard", args.shard))
+            self.sel = dict(self.sel, conops=("shard", args.shard), conops_thesis=("shard", args.shard))
         self.memo = memo            # shared across experiments of one `all`
         self.commands = []          # (step, command line, seconds or None when reused)
         self.datasets_used = {}     # name -> path
@@ -175,9 +196,11 @@ def _render(ctx, step, argv, dataset):
     ctx.run(step, argv)
 
 
-def render_calib(ctx, dataset, msaa):
+def render_calib(ctx, dataset, msaa, rig=None):
+    """The 12 calibration board pairs; `rig` (a rig JSON, repository-relative) other than aar-render's
+    default scenes/rig.json must be the one the dataset's frames are rendered with."""
     _render(ctx, f"render calibration boards into {dataset.name} (x{msaa})",
-            [ctx.render, "calib", dataset, "--msaa", msaa], dataset)
+            [ctx.render, "calib", dataset, "--msaa", msaa] + (["--rig", rig] if rig else []), dataset)
 
 
 def render_frames(ctx, dataset, msaa, flight_path, selection, extra=()):

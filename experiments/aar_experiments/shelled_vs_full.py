@@ -17,7 +17,7 @@ from pathlib import Path
 from . import plots, report
 from .outputs import group_table, group_table_counts, pairing_of, read_frames, read_json, sidecar
 from .report import COMPARISON_HEADERS, comparison_rows
-from .runner import analyze, render_calib, render_frames
+from .runner import analyze, render_calib, render_frames, selected_frames
 from .thesis import THESIS
 
 THESIS_PAIRING = ("--correspondence", "model_to_sensed")
@@ -45,22 +45,31 @@ class Runs:
 def frames_per_region(dataset, selection):
     """One analyzed frame per region (the middle one of the region's selected frames): {region: frame}."""
     count = read_json(dataset / "manifest.json")["frames"]["count"]
-    k, n = (0, 1) if selection is None else (int(v) for v in selection[1].split("/"))
     by_region = {}
-    for i in range(k, count, n):
+    for i in selected_frames(selection, count):
         by_region.setdefault(sidecar(dataset, i)["region"], []).append(i)
     return {g: f[len(f) // 2] for g, f in sorted(by_region.items()) if g != "none"}
 
 
-def render_and_analyze(ctx, dataset_name, flight_path, selection, render_extra=()):
-    """Renders `flight_path` (with `render_extra` flags) and its boards at x16 into `dataset_name`; four
-    analyses (models x pairings). The shelled run with the default pairing also dumps one frame per region
-    (`--dump-frames`)."""
+def dump_option(overlay_frames):
+    """aar-analyze's --dump-frames for {label: frame} (none when empty)."""
+    frames = sorted(set(overlay_frames.values()))
+    return ("--dump-frames", ",".join(str(f) for f in frames)) if frames else ()
+
+
+def render_and_analyze(ctx, dataset_name, flight_path, selection, render_extra=(), rig=None, more_overlays=None):
+    """Renders `flight_path` (with `render_extra` flags) and its boards at x16 into `dataset_name`, both with
+    `rig` when given (else aar-render's default scenes/rig.json); four analyses (models x pairings). The
+    shelled run with the default pairing also dumps one frame per region (`--dump-frames`), and the frames
+    more_overlays(dataset, selection) returns ({label: frame}, labels other than the region letters)."""
     ds = ctx.dataset(dataset_name)
-    render_calib(ctx, ds, 16)
-    render_frames(ctx, ds, 16, flight_path, selection, render_extra)
+    rig_args = ("--rig", rig) if rig else ()
+    render_calib(ctx, ds, 16, rig)
+    render_frames(ctx, ds, 16, flight_path, selection, tuple(render_extra) + rig_args)
     overlay_frames = frames_per_region(ds, selection)
-    dump = ("--dump-frames", ",".join(str(f) for f in sorted(overlay_frames.values()))) if overlay_frames else ()
+    if more_overlays:
+        overlay_frames.update(more_overlays(ds, selection))
+    dump = dump_option(overlay_frames)
     runs = {m: analyze(ctx, f"{dataset_name}-{m}", ds, m, selection, extra=dump if m == "shelled" else ())
             for m in MODELS}
     runs_tp = {m: analyze(ctx, f"{dataset_name}-{m}-model-to-sensed", ds, m, selection, extra=THESIS_PAIRING)
@@ -123,10 +132,12 @@ def region_overlays(ctx, rep, res, stem):
     for g, frame in sorted(res.overlay_frames.items()):
         source = res.runs["shelled"] / "frames" / f"{frame:06d}_overlay.png"
         row = rows.get(frame, {})
+        what = f"Region {g}" if len(g) == 1 else g[0].upper() + g[1:]
         if not source.is_file():
-            rep.p(f"Region {g}, frame {frame}: no estimate, no overlay ({row.get('status', 'not analyzed')}).")
+            rep.p(f"{what}, frame {frame}: no estimate, no overlay ({row.get('status', 'not analyzed')}).")
             continue
-        path = plots.crop_to_green(source, ctx.out / f"{stem}_overlay_{g}.png")
+        name = g if len(g) == 1 else "".join(c if c.isalnum() else "_" for c in g)
+        path = plots.crop_to_green(source, ctx.out / f"{stem}_overlay_{name}.png")
         status = "ok" if row["status"] == "ok" else "not measured: " + row["status"].split(": ", 1)[-1]
-        rep.image(path, f"Region {g}: frame {frame} at {row['range_m']:.1f} m, shelled model registered "
+        rep.image(path, f"{what}: frame {frame} at {row['range_m']:.1f} m, shelled model registered "
                         f"(status {status})")
