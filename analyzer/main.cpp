@@ -71,7 +71,8 @@ struct RunFlags {
   std::optional<double> max_correspondence_m, disparity_offset_px, disparity_noise_px, gate_sigmas, model_pull_scale_m;
   std::optional<size_t> keep_one_in, target_points, model_queries;
   std::optional<bool> halo, subpixel, rounding, widen, balance, full_surface;
-  bool truth_cloud = false, track = false;
+  bool truth_cloud = false, track = false, mask_boom = false;
+  int boom_margin_px = aar::BoomMaskOptions{}.margin_px;
   std::vector<size_t> dump_frames;
 
   void Add(CLI::App* cmd) {
@@ -129,6 +130,11 @@ struct RunFlags {
                     "raise the decimation so that about this many points remain (default preset 4000; 0 = off)");
     cmd->add_flag("--track", track,
                   "match only where the receiver is predicted from the last two frames (whole image when lost)");
+    cmd->add_flag("--mask-boom", mask_boom,
+                  "remove the boom's pixels before re-projection, drawn from the sidecar's boom angles and the rig "
+                  "(datasets with the boom)");
+    cmd->add_option("--boom-margin", boom_margin_px, "--mask-boom: grow the drawn boom by this many pixels")
+        ->capture_default_str();
     cmd->add_flag("--truth-cloud", truth_cloud,
                   "diagnosis: register the ideal cloud (depth truth at the sensed pixels; datasets with --depth)");
     cmd->add_flag(
@@ -188,6 +194,8 @@ struct RunFlags {
     if (target_points) f.reprojection.target_points = *target_points;
     f.register_truth_cloud = truth_cloud;
     f.track_region = track;
+    f.mask_boom = mask_boom;
+    f.boom_mask.margin_px = boom_margin_px;
     f.Check();
     o.dump_frames = dump_frames;
     // Shards (Slurm array tasks) get folders of their own, never one another's.

@@ -9,7 +9,8 @@ the measured frames (status ok), and, where frames.csv has the depth-truth
 columns (datasets rendered with --depth), the sensed points off the receiver
 and off the surface [% of the points] and the RMS disparity error of the
 points on the receiver [px] (docs/analysis.md, "The cloud against depth
-truth"). Only frames that every run analyzed are counted (and, with --shard,
+truth"), and, for datasets with the boom, the mean fraction of the receiver
+the boom hides (receiver_occluded_fraction, docs/analysis.md, "The boom"). Only frames that every run analyzed are counted (and, with --shard,
 only frames i with i % N == K), so runs over different subsets compare on the
 same frames. Standard library only.
 """
@@ -47,9 +48,11 @@ def main(argv):
     if args.shard:
         k, n = (int(v) for v in args.shard.split("/"))
         common = {i for i in common if i % n == k}
+    boom = any("receiver_occluded_fraction" in next(iter(frames.values()), {}) for _, frames in runs)
     print("| Region | Run | Measured | " + " | ".join(f"MAE {c}" for c in COMPONENTS)
-          + " | Off receiver (%) | Off surface (%) | RMS disparity error (px) |")
-    print("|---|---|---:|" + "---:|" * (len(COMPONENTS) + 3))
+          + " | Off receiver (%) | Off surface (%) | RMS disparity error (px) |"
+          + (" Receiver hidden by the boom (%) |" if boom else ""))
+    print("|---|---|---:|" + "---:|" * (len(COMPONENTS) + 3 + (1 if boom else 0)))
     for region in ("A", "B", "C"):
         for label, frames in runs:
             rows = [frames[i] for i in sorted(common) if frames[i]["region"] == region]
@@ -65,6 +68,10 @@ def main(argv):
             cells += [fmt(100.0 * off_rec / points, 2) if points else "-",
                       fmt(100.0 * off_surf / points, 2) if points else "-",
                       fmt(math.sqrt(sq / on), 3) if on > 0 else "-"]
+            if boom:
+                hidden = [float(r["receiver_occluded_fraction"]) for r in rows
+                          if r.get("receiver_occluded_fraction") not in (None, "")]
+                cells.append(fmt(100.0 * sum(hidden) / len(hidden), 2) if hidden else "-")
             print(f"| {region} | {label} | {len(ok)}/{len(rows)} | " + " | ".join(cells) + " |")
     return 0
 

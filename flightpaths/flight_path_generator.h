@@ -5,6 +5,8 @@
 //   conops.h            conops.csv: the AAR CONOPS approach of thesis 3.1/3.7
 //                       (Figures 20-23): 175 m -> contact position, holds near
 //                       49, 34 and 32 m
+//   boom_schedule.h     conops-boom.csv: conops.csv with the boom operator's
+//                       schedule (stowed, lowered, tracking the receptacle)
 //   characterization.h  characterization.csv: the 558 ICP characterization
 //                       positions of Experiment 1 (Figure 14), 10-110 m, zero
 //                       attitude
@@ -17,6 +19,7 @@
 // random numbers. Ranges are measured from the left camera centre to the
 // receiver reference point (docs/frames.md). Positions are in the tanker frame.
 
+#include "boom_schedule.h"
 #include "characterization.h"
 #include "conops.h"
 #include "holds.h"

@@ -4,6 +4,7 @@
 //
 //   aar-make-flightpaths --rig scenes/rig.json --out flightpaths/
 //   aar-make-flightpaths --rig scenes/rig-thesis.json --out flightpaths/ --paths conops-level
+//   aar-make-flightpaths --rig scenes/rig.json --out flightpaths/ --paths conops-boom
 
 #include <CLI/CLI.hpp>
 #include <exception>
@@ -26,9 +27,9 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_dir, "output folder (flightpaths/)")->required();
   std::vector<std::string> paths = {"conops", "characterization"};
   app.add_option("--paths", paths,
-                 "paths to write: conops, characterization (with scenes/rig.json), conops-level (with "
+                 "paths to write: conops, characterization, conops-boom (with scenes/rig.json), conops-level (with "
                  "scenes/rig-thesis.json)")
-      ->check(CLI::IsMember({"conops", "characterization", "conops-level"}));
+      ->check(CLI::IsMember({"conops", "characterization", "conops-level", "conops-boom"}));
   CLI11_PARSE(app, argc, argv);
   try {
     namespace fp = aar::flightpaths;
@@ -42,8 +43,9 @@ int main(int argc, char** argv) {
         aar::WriteFileAtomic(file, aar::FormatFlightPath(characterization));
         std::cout << "wrote " << file.string() << "\n" << fp::DescribeCharacterization(rig, characterization);
       } else {
-        const auto conops =
+        auto conops =
             name == "conops-level" ? fp::GenerateConops(rig, fp::LevelConopsOptions()) : fp::GenerateConops(rig);
+        if (name == "conops-boom") conops = fp::AddBoomSchedule(rig, std::move(conops));
         aar::WriteFileAtomic(file, aar::FormatFlightPath(conops));
         std::cout << "wrote " << file.string() << "\n" << fp::DescribeConops(rig, conops);
       }

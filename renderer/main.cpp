@@ -100,10 +100,15 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
                  "distortion is largest)");
   } else {
     cmd.add_option("--flight-path", f.job.flight_path,
-                   "flight-path CSV (time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg)")
+                   "flight-path CSV (time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg, optionally "
+                   "boom_pitch_deg,boom_roll_deg,boom_extension_m: then the boom is in the scene)")
         ->capture_default_str();
     cmd.add_option("--receiver", f.job.receiver_model, "receiver glTF")->capture_default_str();
     cmd.add_option("--tanker", f.job.tanker_model, "tanker glTF")->capture_default_str();
+    cmd.add_flag("--boom", f.job.boom,
+                 "put the boom in the scene for a flight path without boom columns (stowed: out of view)");
+    cmd.add_option("--boom-model", f.job.boom_model, "boom glTF, fixed part")->capture_default_str();
+    cmd.add_option("--boom-tube-model", f.job.boom_tube_model, "boom glTF, telescoping tube")->capture_default_str();
     cmd.add_flag("--depth", f.job.depth,
                  "also write left-camera ground-truth depth (EXR, metres), object ids and receiver silhouette");
     cmd.add_flag("--depth-right", f.job.depth_right, "also write the same for the right camera (implies --depth)");

@@ -1,5 +1,6 @@
-// aar-make-scenes: writes the three binary glTF models used by the renderer
-// (receiver c12.glb, tanker kc46.glb, calib_board.glb) deterministically, and
+// aar-make-scenes: writes the binary glTF models used by the renderer
+// (receiver c12.glb, tanker kc46.glb, its boom kc46_boom.glb and
+// kc46_boom_tube.glb, calib_board.glb) deterministically, and
 // prints their measurements (body axes) for docs/scenes.md.
 //
 //   aar-make-scenes --out scenes/
@@ -15,6 +16,7 @@
 #include "calib_board.h"
 #include "glb_writer.h"
 #include "kc46.h"
+#include "kc46_boom.h"
 
 namespace {
 
@@ -68,7 +70,7 @@ void Report(const SceneModel& scene, const std::filesystem::path& file, int atla
 
 int main(int argc, char** argv) {
   Options options;
-  CLI::App app{"Writes the receiver (C-12), tanker (KC-46) and calibration board glTF models."};
+  CLI::App app{"Writes the receiver (C-12), tanker (KC-46), boom and calibration board glTF models."};
   app.add_option("--out", options.out_dir, "Output directory")->capture_default_str();
   app.add_option("--atlas-size", options.c12.atlas_size, "C-12 texture atlas size (texels, square)")
       ->capture_default_str()
@@ -99,6 +101,12 @@ int main(int argc, char** argv) {
         "  rig clearance: fuselage underside at x=-20: z=%.3f m; lowest point near the cameras: z=%.3f m; "
         "points inside the cameras' view: %zu\n",
         clearance.fuselage_bottom_at_rig_m, clearance.lowest_near_rig_m, clearance.vertices_in_view);
+
+    for (const SceneModel& boom : {BuildKc46Boom(), BuildKc46BoomTube()}) {
+      const auto boom_path = options.out_dir / (boom.name + ".glb");
+      WriteGlb(boom, boom_path);
+      Report(boom, boom_path, 0);
+    }
 
     const SceneModel board = BuildCalibBoard(options.board);
     const auto board_path = options.out_dir / "calib_board.glb";

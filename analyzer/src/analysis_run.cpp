@@ -56,36 +56,41 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
                          {"surface_noise_m", p.surface_noise_m}});
   }
   const ReferenceModelOptions& r = o.reference.options;
-  return {{"preset", ToString(o.preset)},
-          {"disparity",
-           {{"algorithm", f.disparity.algorithm == DisparityAlgorithm::kBlockMatching ? "bm" : "sgbm"},
-            {"num_disparities", f.disparity.num_disparities},
-            {"block_size", f.disparity.block_size},
-            {"speckle_window_size", f.disparity.speckle_window_size},
-            {"speckle_range_px", f.disparity.speckle_range_px},
-            {"background_disparity_px", f.disparity.background_disparity_px},
-            {"halo_radius_px", f.remove_halo ? f.halo.radius_px : 0},
-            {"rounding_bias_px", f.remove_rounding_bias ? MatcherRoundingBiasPx(f.disparity.algorithm) : 0.0},
-            {"subpixel", f.refine_subpixel ? "symmetric" : "none"},
-            {"widen_search", f.widen_disparity_search}}},
-          {"reprojection",
-           {{"max_depth_m", f.reprojection.max_depth_m},
-            {"max_depth_over_median", f.reprojection.max_depth_over_median},
-            {"keep_one_in", f.reprojection.keep_one_in},
-            {"target_points", f.reprojection.target_points},
-            {"disparity_offset_px", f.reprojection.disparity_offset_px}}},
-          {"icp", registration},
-          {"reference",
-           {{"model", o.reference.model},
-            {"num_points", r.num_points},
-            {"seed", r.seed},
-            {"shell",
-             {{"cameras", ToString(r.cameras)},
-              {"depth_tolerance_m", r.depth_tolerance_m},
-              {"plane_depth_test", r.plane_depth_test},
-              {"window_radius_px", r.neighbourhood_radius_px},
-              {"raster_scale", r.raster_scale},
-              {"min_incidence_deg", r.min_incidence_deg}}}}}};
+  nlohmann::json options = {
+      {"preset", ToString(o.preset)},
+      {"disparity",
+       {{"algorithm", f.disparity.algorithm == DisparityAlgorithm::kBlockMatching ? "bm" : "sgbm"},
+        {"num_disparities", f.disparity.num_disparities},
+        {"block_size", f.disparity.block_size},
+        {"speckle_window_size", f.disparity.speckle_window_size},
+        {"speckle_range_px", f.disparity.speckle_range_px},
+        {"background_disparity_px", f.disparity.background_disparity_px},
+        {"halo_radius_px", f.remove_halo ? f.halo.radius_px : 0},
+        {"rounding_bias_px", f.remove_rounding_bias ? MatcherRoundingBiasPx(f.disparity.algorithm) : 0.0},
+        {"subpixel", f.refine_subpixel ? "symmetric" : "none"},
+        {"widen_search", f.widen_disparity_search}}},
+      {"reprojection",
+       {{"max_depth_m", f.reprojection.max_depth_m},
+        {"max_depth_over_median", f.reprojection.max_depth_over_median},
+        {"keep_one_in", f.reprojection.keep_one_in},
+        {"target_points", f.reprojection.target_points},
+        {"disparity_offset_px", f.reprojection.disparity_offset_px}}},
+      {"icp", registration},
+      {"reference",
+       {{"model", o.reference.model},
+        {"num_points", r.num_points},
+        {"seed", r.seed},
+        {"shell",
+         {{"cameras", ToString(r.cameras)},
+          {"depth_tolerance_m", r.depth_tolerance_m},
+          {"plane_depth_test", r.plane_depth_test},
+          {"window_radius_px", r.neighbourhood_radius_px},
+          {"raster_scale", r.raster_scale},
+          {"min_incidence_deg", r.min_incidence_deg}}}}}};
+  // Absent without --mask-boom, so the runs made before it keep their run.json.
+  if (f.mask_boom)
+    options["boom_mask"] = {{"margin_px", f.boom_mask.margin_px}, {"source", "sidecar boom angles, rig"}};
+  return options;
 }
 
 std::string DescribeSelection(const FrameSelection& s) {
@@ -113,8 +118,11 @@ void WriteSummary(const std::filesystem::path& out, const nlohmann::json& run, c
 // recorded (inputs.*.sha256 and files), or the analysis would silently use
 // another rig, flight path or receiver model than the images were made with.
 void CheckDatasetInputs(const std::filesystem::path& dataset, const Manifest& manifest, bool uses_receiver) {
-  const std::pair<const char*, const char*> inputs[] = {
-      {"rig", kRigName}, {"flight_path", kFlightPathName}, {"receiver_model", kReceiverModelName}};
+  const std::pair<const char*, const char*> inputs[] = {{"rig", kRigName},
+                                                        {"flight_path", kFlightPathName},
+                                                        {"receiver_model", kReceiverModelName},
+                                                        {"boom_model", kBoomModelName},
+                                                        {"boom_tube_model", kBoomTubeModelName}};
   const nlohmann::json recorded = manifest.json.value("inputs", nlohmann::json::object());
   for (const auto& [key, name] : inputs) {
     std::vector<std::string> hashes;
@@ -290,7 +298,17 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
     std::fprintf(stderr, "reference model '%s': %zu points\n", reference.name.c_str(),
                  reference.points_in_receiver.size());
   }
-  const FrameAnalyzer analyzer(calibration, rig.left.tanker_from_camera, reference, options.frame, &full_surface);
+  FrameAnalyzer analyzer(calibration, rig.left.tanker_from_camera, reference, options.frame, &full_surface);
+  if (options.frame.mask_boom) {
+    // CheckDatasetInputs has checked the copies against the hashes the manifest records.
+    const nlohmann::json inputs = manifest.json.value("inputs", nlohmann::json::object());
+    if (!inputs.is_object() || !inputs.contains("boom_model") || !inputs.contains("boom_tube_model")) {
+      throw Error("--mask-boom: " + options.dataset.string() +
+                  " has no boom (boom.glb, boom_tube.glb: render a flight path with the boom columns, or --boom)");
+    }
+    analyzer.EnableBoomMask(LoadReceiverMesh(options.dataset / kBoomModelName),
+                            LoadReceiverMesh(options.dataset / kBoomTubeModelName));
+  }
 
   for (size_t index : options.dump_frames) {
     if (!std::binary_search(selected.begin(), selected.end(), index)) {

@@ -29,7 +29,7 @@ Eigen::Isometry3d LeftFromRectLeft(const StereoCalibration& calibration) {
 
 // Reads one image of the pair, checking its hash against the sidecar and the manifest.
 cv::Mat ReadImage(const std::filesystem::path& dataset, const FileRef& ref,
-                  const std::map<std::string, std::string>& expected_hashes) {
+                  const std::map<std::string, std::string>& expected_hashes, int flags = cv::IMREAD_COLOR) {
   const std::filesystem::path path = dataset / ref.path;
   if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": image missing");
   const std::string bytes = ReadFileBytes(path);
@@ -39,8 +39,8 @@ cv::Mat ReadImage(const std::filesystem::path& dataset, const FileRef& ref,
   if (const auto it = expected_hashes.find(ref.path); it != expected_hashes.end() && it->second != hash) {
     throw Error(path.string() + ": SHA-256 differs from manifest.json's");
   }
-  const cv::Mat image = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())),
-                                     cv::IMREAD_COLOR);
+  const cv::Mat image =
+      cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), flags);
   if (image.empty()) throw Error(path.string() + ": cannot decode image");
   return image;
 }
@@ -109,6 +109,7 @@ void FrameAnalysisOptions::Check() const {
   subpixel.Check();
   icp.Check();
   plane_icp.Check();
+  boom_mask.Check();
   if (reprojection.keep_one_in == 0) throw Error("reprojection keep_one_in must be at least 1");
   if (!(max_icp_rmse_m > 0)) throw Error("max_icp_rmse_m must be positive");
   if (!(disparity_noise_px >= 0)) throw Error("disparity_noise_px must not be negative");
@@ -157,6 +158,12 @@ FrameAnalyzer::Registered FrameAnalyzer::Register(const std::vector<Eigen::Vecto
   return {r.tanker_from_receiver, r.iterations, r.converged, r.rmse_m, r.num_inliers};
 }
 
+void FrameAnalyzer::EnableBoomMask(TriangleMesh boom, TriangleMesh tube) {
+  if (!options_.mask_boom) return;
+  boom_masker_ = std::make_unique<BoomMasker>(std::move(boom), std::move(tube), calibration_, tanker_from_rect_left_,
+                                              options_.boom_mask);
+}
+
 double FrameAnalyzer::ModelMaxDisparityPx(const Eigen::Isometry3d& tanker_from_receiver) const {
   // Depth along the left optical axis of the nearest model point; d = f b / z.
   const Eigen::Isometry3d left_from_receiver = tanker_from_left_.inverse() * tanker_from_receiver;
@@ -168,7 +175,7 @@ double FrameAnalyzer::ModelMaxDisparityPx(const Eigen::Isometry3d& tanker_from_r
 FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi,
                                                  const std::optional<Pose>& seed,
                                                  const std::optional<DepthTruth>& truth, const std::string& left_path,
-                                                 FrameResult& r, FrameDump* dump) const {
+                                                 const BoomMasks* boom, FrameResult& r, FrameDump* dump) const {
   // The region computed: the receiver's predicted box and, to its left, the
   // columns its matches can come from (the disparity search and a block).
   DisparityOptions disparity_options = options_.disparity;
@@ -196,6 +203,8 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
     start = std::chrono::steady_clock::now();
     DisparityMap disparity = ComputeDisparity(rect_left, rect_right, disparity_options);
     if (options_.remove_halo) RemoveHalo(disparity.disparity16, disparity.invalid_value16, options_.halo);
+    if (boom != nullptr)
+      BoomMasker::RemoveDisparities(disparity.disparity16, disparity.invalid_value16, region.tl(), *boom);
     r.times.disparity_ms += MillisecondsSince(start);
     if (dump != nullptr) {
       dump->disparity16 = disparity.disparity16;
@@ -325,6 +334,16 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
         predicted->yaw_deg = b.yaw_deg + k * WrapDegrees(b.yaw_deg - a.yaw_deg);
       }
     }
+    // The boom: what the tanker's telemetry says it covers (--mask-boom), and
+    // how much of the receiver the truth says it hides (reported, not used).
+    std::optional<BoomMasks> boom_masks;
+    if (boom_masker_ && sidecar.boom) boom_masks = boom_masker_->Draw(*sidecar.boom);
+    if (sidecar.boom && sidecar.files.count("left_mask") && sidecar.files.count("left_silhouette")) {
+      r.receiver_occluded_fraction = ReceiverOccludedFraction(
+          ReadImage(dataset, sidecar.files.at("left_mask"), expected_hashes, cv::IMREAD_GRAYSCALE),
+          ReadImage(dataset, sidecar.files.at("left_silhouette"), expected_hashes, cv::IMREAD_GRAYSCALE));
+    }
+    const BoomMasks* boom = boom_masks ? &*boom_masks : nullptr;
     const std::optional<Pose> seed = SeedFromHistory(history, options_);
     Registered icp{};
     bool measured = false;
@@ -334,7 +353,7 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
       if (roi.area() > 0) {
         FrameResult attempt = r;
         try {
-          icp = Measure(left, right, roi, seed, truth, left_path, attempt, dump);
+          icp = Measure(left, right, roi, seed, truth, left_path, boom, attempt, dump);
           // Lost when the receiver reaches the region's border: measure the whole image.
           const cv::Rect estimated = PredictedRegion(icp.tanker_from_receiver, 0.0, 0);
           measured = estimated.area() > 0 && (estimated & roi) == estimated;
@@ -349,7 +368,7 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
       }
     }
     if (!measured) {
-      icp = Measure(left, right, cv::Rect(), seed, truth, left_path, r, dump);
+      icp = Measure(left, right, cv::Rect(), seed, truth, left_path, boom, r, dump);
       r.times.rectify_ms += lost_times.rectify_ms;
       r.times.disparity_ms += lost_times.disparity_ms;
       r.times.reproject_ms += lost_times.reproject_ms;

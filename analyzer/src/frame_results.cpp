@@ -14,7 +14,7 @@ namespace {
 
 constexpr int kValueDecimals = 6;  // seconds, metres, degrees
 constexpr int kTimeDecimals = 3;   // milliseconds
-constexpr size_t kColumns = 40;
+constexpr size_t kColumns = 40;    // 41 with receiver_occluded_fraction
 
 const std::array<const char*, 6> kTimeColumns = {"ms_load",      "ms_rectify", "ms_disparity",
                                                  "ms_reproject", "ms_icp",     "ms_total"};
@@ -58,7 +58,7 @@ SixDof PoseError(const Pose& estimate, const Pose& truth) {
   return error;
 }
 
-std::string FrameResultsCsvHeader() {
+std::string FrameResultsCsvHeader(bool boom) {
   std::string h = "frame,time_s,region,range_m,status";
   for (const char* prefix : {"truth_", "est_", "err_"}) {
     for (const char* dof : kDofNames) h += std::string(",") + prefix + dof;
@@ -67,11 +67,14 @@ std::string FrameResultsCsvHeader() {
   h += ",truth_points,truth_off_receiver,truth_off_surface,truth_error_sum_px,truth_error_squared_sum_px2,"
        "truth_error_by_fraction";
   for (const char* column : kTimeColumns) h += std::string(",") + column;
+  if (boom) h += ",receiver_occluded_fraction";
   return h;
 }
 
 std::string FormatFrameResults(const std::vector<FrameResult>& results) {
-  std::string out = FrameResultsCsvHeader();
+  const bool boom = std::any_of(results.begin(), results.end(),
+                                [](const FrameResult& f) { return f.receiver_occluded_fraction.has_value(); });
+  std::string out = FrameResultsCsvHeader(boom);
   out += '\n';
   const auto field = [&out](const std::string& text) {
     out += ',';
@@ -109,6 +112,9 @@ std::string FormatFrameResults(const std::vector<FrameResult>& results) {
     field(bins);
     StageTimes times = f.times;
     for (const double* t : TimeFields(times)) field(FormatFixed(*t, kTimeDecimals));
+    if (boom) {
+      field(f.receiver_occluded_fraction ? FormatFixed(*f.receiver_occluded_fraction, kValueDecimals) : std::string());
+    }
     out += '\n';
   }
   return out;
@@ -118,6 +124,7 @@ std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::str
   std::vector<FrameResult> results;
   size_t pos = 0;
   bool header_seen = false;
+  bool boom = false;
   for (size_t line_number = 1; pos < text.size(); ++line_number) {
     const size_t newline = text.find('\n', pos);
     const std::string line =
@@ -125,14 +132,16 @@ std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::str
     pos = newline == std::string_view::npos ? text.size() : newline + 1;
     const std::string at = where + ":" + std::to_string(line_number);
     if (!header_seen) {
-      if (line != FrameResultsCsvHeader()) throw Error(at + ": not a frame-results CSV (unexpected header)");
+      boom = line == FrameResultsCsvHeader(true);
+      if (line != FrameResultsCsvHeader() && !boom) throw Error(at + ": not a frame-results CSV (unexpected header)");
       header_seen = true;
       continue;
     }
     if (line.empty()) continue;
     const std::vector<std::string> fields = SplitCsvLine(line);
-    if (fields.size() != kColumns) {
-      throw Error(at + ": expected " + std::to_string(kColumns) + " columns, found " + std::to_string(fields.size()));
+    const size_t columns = kColumns + (boom ? 1 : 0);
+    if (fields.size() != columns) {
+      throw Error(at + ": expected " + std::to_string(columns) + " columns, found " + std::to_string(fields.size()));
     }
     const auto column = [&](size_t i) { return at + " column " + std::to_string(i + 1); };
     FrameResult f;
@@ -187,6 +196,7 @@ std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::str
       *t = ParseFiniteDouble(fields[c], column(c));
       ++c;
     }
+    if (boom && !fields[c].empty()) f.receiver_occluded_fraction = ParseFiniteDouble(fields[c], column(c));
     results.push_back(std::move(f));
   }
   if (!header_seen) throw Error(where + ": empty file (no header)");

@@ -64,6 +64,13 @@ nlohmann::json SidecarToJson(const FrameSidecar& s) {
     j["board"] = {{"inner_corners", {s.board->inner_corners_x, s.board->inner_corners_y}},
                   {"square_m", s.board->square_m}};
   }
+  if (s.boom) {
+    j["boom"] = {{"pitch_deg", s.boom->pitch_deg},
+                 {"roll_deg", s.boom->roll_deg},
+                 {"extension_m", s.boom->extension_m},
+                 {"tanker_from_boom", IsometryToJson(TankerFromBoom(*s.boom))},
+                 {"tanker_from_boom_tube", IsometryToJson(TankerFromBoomTube(*s.boom))}};
+  }
   nlohmann::json files = nlohmann::json::object();
   for (const auto& [name, ref] : s.files) files[name] = {{"path", ref.path}, {"sha256", ref.sha256}};
   j["files"] = files;
@@ -97,6 +104,12 @@ FrameSidecar ReadSidecar(const std::filesystem::path& path) {
           JsonInteger(j.at("board").at("inner_corners").at(1), 2, 1000, where + ": board.inner_corners[1]"));
       b.square_m = j.at("board").at("square_m").get<double>();
       s.board = b;
+    }
+    if (j.contains("boom")) {
+      const nlohmann::json& b = j.at("boom");
+      s.boom =
+          BoomPose{b.at("pitch_deg").get<double>(), b.at("roll_deg").get<double>(), b.at("extension_m").get<double>()};
+      s.boom->Check(where + ": boom");
     }
     for (const auto& [name, ref] : j.at("files").items()) {
       s.files[name] = FileRef{ref.at("path").get<std::string>(), ref.at("sha256").get<std::string>()};

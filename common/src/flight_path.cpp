@@ -17,10 +17,12 @@ std::vector<FlightSample> ReadFlightPath(const std::filesystem::path& path) {
     throw Error(path.string() + ":1: empty file, expected header '" + kFlightPathHeader + "'");
   // A UTF-8 byte-order mark (spreadsheet exports) is not part of the header.
   if (line.starts_with("\xEF\xBB\xBF")) line.erase(0, 3);
-  if (TrimCr(line) != kFlightPathHeader) {
+  const bool with_boom = TrimCr(line) == kFlightPathBoomHeader;
+  if (TrimCr(line) != kFlightPathHeader && !with_boom) {
     throw Error(path.string() + ":1: wrong header '" + PrintableText(TrimCr(line)) + "', expected '" +
-                kFlightPathHeader + "'");
+                kFlightPathHeader + "' or, with the boom, '" + kFlightPathBoomHeader + "'");
   }
+  const size_t columns = with_boom ? 10 : 7;
   std::vector<FlightSample> samples;
   int line_number = 1;
   while (std::getline(in, line)) {
@@ -29,18 +31,24 @@ std::vector<FlightSample> ReadFlightPath(const std::filesystem::path& path) {
     if (line.empty()) continue;
     const std::vector<std::string> fields = SplitCsvLine(line);
     const std::string where = path.string() + ":" + std::to_string(line_number);
-    if (fields.size() != 7) {
-      throw Error(where + ": expected 7 fields, found " + std::to_string(fields.size()));
+    if (fields.size() != columns) {
+      throw Error(where + ": expected " + std::to_string(columns) + " fields, found " + std::to_string(fields.size()));
     }
-    static const char* kNames[] = {"time_s", "x_m", "y_m", "z_m", "roll_deg", "pitch_deg", "yaw_deg"};
-    double v[7];
-    for (int i = 0; i < 7; ++i) v[i] = ParseFiniteDouble(fields[i], where + ": field " + kNames[i]);
+    static const char* kNames[] = {
+        "time_s",          "x_m", "y_m", "z_m", "roll_deg", "pitch_deg", "yaw_deg", "boom_pitch_deg", "boom_roll_deg",
+        "boom_extension_m"};
+    double v[10];
+    for (size_t i = 0; i < columns; ++i) v[i] = ParseFiniteDouble(fields[i], where + ": field " + kNames[i]);
     FlightSample s;
     s.time_s = v[0];
     s.tanker_from_receiver.translation_m = {v[1], v[2], v[3]};
     s.tanker_from_receiver.roll_deg = v[4];
     s.tanker_from_receiver.pitch_deg = v[5];
     s.tanker_from_receiver.yaw_deg = v[6];
+    if (with_boom) {
+      s.boom = BoomPose{v[7], v[8], v[9]};
+      s.boom->Check(where);
+    }
     samples.push_back(s);
   }
   if (samples.empty()) throw Error(path.string() + ": flight path has no samples");
@@ -49,12 +57,19 @@ std::vector<FlightSample> ReadFlightPath(const std::filesystem::path& path) {
 
 std::string FormatFlightPath(const std::vector<FlightSample>& samples) {
   std::ostringstream out;
-  out << kFlightPathHeader << '\n';
+  const bool with_boom = !samples.empty() && samples.front().boom.has_value();
+  out << (with_boom ? kFlightPathBoomHeader : kFlightPathHeader) << '\n';
   for (const FlightSample& s : samples) {
     const Pose& p = s.tanker_from_receiver;
     out << FormatFixed(s.time_s, 3) << ',' << FormatFixed(p.translation_m.x(), 4) << ','
         << FormatFixed(p.translation_m.y(), 4) << ',' << FormatFixed(p.translation_m.z(), 4) << ','
-        << FormatFixed(p.roll_deg, 4) << ',' << FormatFixed(p.pitch_deg, 4) << ',' << FormatFixed(p.yaw_deg, 4) << '\n';
+        << FormatFixed(p.roll_deg, 4) << ',' << FormatFixed(p.pitch_deg, 4) << ',' << FormatFixed(p.yaw_deg, 4);
+    if (s.boom.has_value() != with_boom) throw Error("flight path: the boom columns must be on every sample or none");
+    if (with_boom) {
+      out << ',' << FormatFixed(s.boom->pitch_deg, 4) << ',' << FormatFixed(s.boom->roll_deg, 4) << ','
+          << FormatFixed(s.boom->extension_m, 4);
+    }
+    out << '\n';
   }
   return out.str();
 }
@@ -72,6 +87,8 @@ FlightSample RoundToCsvPrecision(FlightSample s) {
   p.roll_deg = Round(p.roll_deg, 1e4);
   p.pitch_deg = Round(p.pitch_deg, 1e4);
   p.yaw_deg = Round(p.yaw_deg, 1e4);
+  if (s.boom)
+    *s.boom = BoomPose{Round(s.boom->pitch_deg, 1e4), Round(s.boom->roll_deg, 1e4), Round(s.boom->extension_m, 1e4)};
   return s;
 }
 

@@ -99,7 +99,8 @@ bool FinalizeManifest(const std::filesystem::path& dataset) {
   Manifest manifest = ReadManifest(dataset);
   nlohmann::json files = nlohmann::json::object();
   bool complete = true;
-  for (const char* name : {kRigName, kFlightPathName, kReceiverModelName, kIdealCalibrationName}) {
+  for (const char* name :
+       {kRigName, kFlightPathName, kReceiverModelName, kBoomModelName, kBoomTubeModelName, kIdealCalibrationName}) {
     if (std::filesystem::is_regular_file(dataset / name)) files[name] = Sha256File(dataset / name);
   }
   const std::pair<const char*, size_t> groups[] = {{"frame", manifest.frame_count},

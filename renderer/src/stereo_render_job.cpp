@@ -27,6 +27,7 @@ namespace {
 constexpr float kReceiverId = 1.0f;
 constexpr float kTankerId = 2.0f;
 constexpr float kBoardId = 3.0f;
+constexpr float kBoomId = static_cast<float>(kBoomMaskId);
 
 // Fails before anything is written when `dir` cannot be created or written.
 void CheckOutputFolder(const std::filesystem::path& dir) {
@@ -246,6 +247,16 @@ RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size
   return result;
 }
 
+// frames.boom of the manifest: where the boom's pose comes from and its frame.
+nlohmann::json BoomJson(bool posed_by_path) {
+  return {{"mask_id", kBoomMaskId},
+          {"pose", posed_by_path ? "flight-path columns boom_pitch_deg, boom_roll_deg, boom_extension_m"
+                                 : "defaults (stowed): boom_pitch_deg 0, boom_roll_deg 0, boom_extension_m 0"},
+          {"hinge_in_tanker_m", {kBoomHingeInTanker.x(), kBoomHingeInTanker.y(), kBoomHingeInTanker.z()}},
+          {"tanker_from_boom", "Translation(hinge) * Rx(roll) * Ry(-pitch); the boom along -x of its frame"},
+          {"tanker_from_boom_tube", "tanker_from_boom * Translation(-extension_m, 0, 0)"}};
+}
+
 // The manifest keys both jobs share; computes hashes, writes nothing.
 nlohmann::json CommonHeader(const Session& session, const std::string& rig_hash) {
   nlohmann::json header = {{"schema", kDatasetSchema},
@@ -282,10 +293,19 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   options.selection.CheckWithin(path.size(), options.flight_path.string());
   const SceneModel receiver = LoadSceneModel(options.receiver_model);
   const SceneModel tanker = LoadSceneModel(options.tanker_model);
+  // The boom: posed by the path's columns, or stowed on a 7-column path with --boom.
+  const bool with_boom = options.boom || path.front().boom.has_value();
+  std::optional<SceneModel> boom, boom_tube;
+  if (with_boom) {
+    boom = LoadSceneModel(options.boom_model);
+    boom_tube = LoadSceneModel(options.boom_tube_model);
+  }
   CheckOutputFolder(options.output);
   Session session = OpenSession(options, rig, options.background);
   const int receiver_index = session.renderer->AddModel(receiver);
   const int tanker_index = session.renderer->AddModel(tanker);
+  const int boom_index = with_boom ? session.renderer->AddModel(*boom) : -1;
+  const int boom_tube_index = with_boom ? session.renderer->AddModel(*boom_tube) : -1;
   const std::vector<Eigen::Vector3d> receiver_points = receiver.AllPositions();
 
   EnsureWritableDirectory(options.output);
@@ -298,6 +318,13 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   header["inputs"]["tanker_model"] = {{"source", options.tanker_model.filename().string()},
                                       {"sha256", Sha256File(options.tanker_model)}};
   header["inputs"]["flight_path"] = {{"file", kFlightPathName}, {"sha256", path_hash}};
+  std::string boom_hash, boom_tube_hash;
+  if (with_boom) {
+    boom_hash = Sha256File(options.boom_model);
+    boom_tube_hash = Sha256File(options.boom_tube_model);
+    header["inputs"]["boom_model"] = {{"file", kBoomModelName}, {"sha256", boom_hash}};
+    header["inputs"]["boom_tube_model"] = {{"file", kBoomTubeModelName}, {"sha256", boom_tube_hash}};
+  }
   header["frames"] = {{"count", path.size()},
                       {"msaa", MsaaJson(session.plan)},
                       {"depth", options.depth || options.depth_right},
@@ -305,10 +332,16 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
                       {"texture_anisotropy", options.anisotropy}};
   // Absent for the flat sky, so datasets made before backgrounds existed still match.
   if (options.background.enabled()) header["frames"]["background"] = BackgroundJson(options.background);
+  // Absent without the boom, so datasets without it keep their bytes.
+  if (with_boom) header["frames"]["boom"] = BoomJson(path.front().boom.has_value());
   OpenManifest(options.output, header, [&] {
     CopyInput(options.output, options.rig, kRigName, rig_hash);
     CopyInput(options.output, options.receiver_model, kReceiverModelName, receiver_hash);
     CopyInput(options.output, options.flight_path, kFlightPathName, path_hash);
+    if (with_boom) {
+      CopyInput(options.output, options.boom_model, kBoomModelName, boom_hash);
+      CopyInput(options.output, options.boom_tube_model, kBoomTubeModelName, boom_tube_hash);
+    }
     WriteCalibration(options.output / kIdealCalibrationName, ideal);
   });
 
@@ -317,6 +350,11 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
     std::vector<RenderItem> items = {{tanker_index, Eigen::Isometry3d::Identity(), kTankerId},
                                      {receiver_index, tanker_from_receiver, kReceiverId}};
     FrameSidecar s;
+    if (with_boom) {
+      s.boom = path[i].boom.value_or(BoomPose{});
+      items.push_back({boom_index, TankerFromBoom(*s.boom), kBoomId});
+      items.push_back({boom_tube_index, TankerFromBoomTube(*s.boom), kBoomId});
+    }
     s.kind = "frame";
     s.index = i;
     s.time_s = path[i].time_s;

@@ -6,6 +6,7 @@
 //   DATASET/rig.json                 the rig used (scenes/rig.json format)
 //   DATASET/flightpath.csv           the flight path used
 //   DATASET/receiver.glb             the receiver model used
+//   DATASET/boom.glb, boom_tube.glb  with the boom: its models (boom.h)
 //   DATASET/calibration_ideal.yaml   the exact calibration (OpenCV FileStorage)
 //   DATASET/frames/NNNNNN.json       per-frame truth sidecar
 //   DATASET/frames/NNNNNN_left.png   8-bit sRGB, MSAA-resolved
@@ -23,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "aar/boom.h"
 #include "aar/pose.h"
 #include "aar/rig.h"
 
@@ -35,6 +37,10 @@ inline constexpr const char* kChecksumsName = "SHA256SUMS";
 inline constexpr const char* kRigName = "rig.json";
 inline constexpr const char* kFlightPathName = "flightpath.csv";
 inline constexpr const char* kReceiverModelName = "receiver.glb";
+inline constexpr const char* kBoomModelName = "boom.glb";           ///< with the boom: its fixed part
+inline constexpr const char* kBoomTubeModelName = "boom_tube.glb";  ///< with the boom: its telescoping tube
+/// Object id of the boom in the masks (docs/dataset-format.md, "Images").
+inline constexpr int kBoomMaskId = 6;
 inline constexpr const char* kIdealCalibrationName = "calibration_ideal.yaml";
 inline constexpr const char* kFramesDir = "frames";
 inline constexpr const char* kCalibDir = "calib";
@@ -68,6 +74,10 @@ struct FrameSidecar {
   double in_view_right = 0.0;      ///< same for the right image
   StereoRig rig;                   ///< ideal intrinsics and extrinsics
   std::optional<BoardSpec> board;  ///< calib only
+  /// Frames with the boom in the scene: the boom operator's controls
+  /// (written as `boom`, with `tanker_from_boom` and `tanker_from_boom_tube`
+  /// derived from them by boom.h); absent otherwise.
+  std::optional<BoomPose> boom;
   /// "left", "right"; with depth truth "left_depth", "left_mask", "left_silhouette" (and "right_...")
   std::map<std::string, FileRef> files;
 };

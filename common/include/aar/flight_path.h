@@ -1,29 +1,42 @@
 #pragma once
 // Flight-path CSV files (flightpaths/*.csv, documented in docs/dataset-format.md):
 // header `time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg`, one sample per line,
-// the receiver reference point and attitude in the tanker body frame.
+// the receiver reference point and attitude in the tanker body frame;
+// optionally three more columns `boom_pitch_deg,boom_roll_deg,boom_extension_m`,
+// the tanker's boom (boom.h).
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "aar/boom.h"
 #include "aar/pose.h"
 
 namespace aar {
 
 inline constexpr const char* kFlightPathHeader = "time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg";
+/// The header of a path that also poses the boom.
+inline constexpr const char* kFlightPathBoomHeader =
+    "time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg,boom_pitch_deg,boom_roll_deg,boom_extension_m";
 
 struct FlightSample {
   double time_s = 0.0;        ///< sample time [s]
   Pose tanker_from_receiver;  ///< receiver pose in the tanker frame
+  /// The boom's pose: set on every sample of a path with the boom columns,
+  /// on none of a 7-column path.
+  std::optional<BoomPose> boom;
 };
 
 /// Reads and validates a flight-path CSV. Throws aar::Error naming the file
-/// and line on a missing file, wrong header, wrong column count, a field that
-/// is not a finite number, or an empty path.
+/// and line on a missing file, wrong header (neither kFlightPathHeader nor
+/// kFlightPathBoomHeader), wrong column count, a field that is not a finite
+/// number, a boom value outside BoomPose's ranges, or an empty path.
 std::vector<FlightSample> ReadFlightPath(const std::filesystem::path& path);
 
-/// Formats samples as CSV text with the canonical header (fixed precision).
+/// Formats samples as CSV text with the canonical header (fixed precision);
+/// with the boom columns when the first sample has a boom (then every sample
+/// must have one, or aar::Error is thrown).
 std::string FormatFlightPath(const std::vector<FlightSample>& samples);
 
 /// `sample` rounded to FormatFlightPath's precision (time 1 ms, metres and

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "aar/analyzer/boom_mask.h"
 #include "aar/analyzer/disparity.h"
 #include "aar/analyzer/disparity_cleaning.h"
 #include "aar/analyzer/frame_dump.h"
@@ -117,6 +118,11 @@ struct FrameAnalysisOptions {
   /// estimated range r (f b from Q); such a frame is recorded as not measured.
   double max_icp_rmse_m = 2.0;      ///< residual allowance at zero range [m]
   double disparity_noise_px = 0.1;  ///< disparity noise used for sigma_z [px] (a typical block-matching accuracy)
+  /// Remove the boom's pixels before re-projection (boom_mask.h), drawn from
+  /// the sidecar's boom angles and the rig; needs FrameAnalyzer::EnableBoomMask.
+  /// Off by default (datasets without the boom are unaffected either way).
+  bool mask_boom = false;
+  BoomMaskOptions boom_mask;
 
   /// The options of a preset: kDefault = these defaults; kThesis = BM 9/48
   /// with speckle filter, no halo removal, no rounding correction, no
@@ -151,6 +157,11 @@ class FrameAnalyzer {
                 const ReferenceModel& model, const FrameAnalysisOptions& options,
                 const ReferenceModel* full_surface = nullptr);
 
+  /// Removes the boom's pixels of frames whose sidecar has a boom pose
+  /// (options.mask_boom); `boom` and `tube` from the dataset's boom.glb and
+  /// boom_tube.glb.
+  void EnableBoomMask(TriangleMesh boom, TriangleMesh tube);
+
   /// Analyzes frame `index` of `dataset`. Never throws for a bad frame: a
   /// missing or corrupt image, a malformed sidecar, a hash mismatch against
   /// `expected_hashes` (relative path -> SHA-256, e.g. the manifest's files),
@@ -171,6 +182,7 @@ class FrameAnalyzer {
   std::unique_ptr<IcpRegistration> point_icp_;
   std::unique_ptr<PlaneIcpRegistration> plane_icp_;
   FrameAnalysisOptions options_;
+  std::unique_ptr<BoomMasker> boom_masker_;
 
   struct Registered {
     Eigen::Isometry3d tanker_from_receiver;
@@ -182,8 +194,8 @@ class FrameAnalyzer {
   Registered Register(const std::vector<Eigen::Vector3d>& sensed, const std::optional<Pose>& previous) const;
   // Rectify, match, re-project and register in `roi` (empty: the whole image).
   Registered Measure(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, const std::optional<Pose>& seed,
-                     const std::optional<DepthTruth>& truth, const std::string& left_path, FrameResult& r,
-                     FrameDump* dump) const;
+                     const std::optional<DepthTruth>& truth, const std::string& left_path, const BoomMasks* boom,
+                     FrameResult& r, FrameDump* dump) const;
   // The model's box in the rectified left image at a pose, grown by margins.
   cv::Rect PredictedRegion(const Eigen::Isometry3d& tanker_from_receiver, double margin_fraction, int margin_px) const;
   cv::Rect PredictedRegion(const Eigen::Isometry3d& tanker_from_receiver) const {

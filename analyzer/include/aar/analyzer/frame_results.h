@@ -4,6 +4,7 @@
 #include <array>
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -59,6 +60,9 @@ struct FrameResult {
   StageTimes times;            ///< stage timings [ms]
   /// The sensed cloud against the depth truth (datasets with --depth; zero points otherwise).
   StereoTruthStats stereo_truth;
+  /// Datasets with the boom and the object mask: the fraction of the
+  /// receiver's left-image silhouette the boom hides (ReceiverOccludedFraction).
+  std::optional<double> receiver_occluded_fraction;
 
   /// An estimate exists (ok, or registered but rejected, e.g. by the
   /// residual test); est_* and err_* are then written even when not ok.
@@ -67,13 +71,16 @@ struct FrameResult {
   bool ok() const { return status == "ok"; }
 };
 
-/// The CSV header (one line, no newline). The timing columns ms_* come last
-/// so that `cut -d, -f1-34` drops them for comparisons.
-std::string FrameResultsCsvHeader();
+/// The CSV header (one line, no newline). The timing columns ms_* come after
+/// the first 34, so that `cut -d, -f1-34` drops them for comparisons; with
+/// `boom`, one more column receiver_occluded_fraction ends the line.
+std::string FrameResultsCsvHeader(bool boom = false);
 
 /// Header and one line per frame, in the given order. Fixed decimals
 /// (aar::FormatFixed): 6 for seconds, metres and degrees, 3 for milliseconds.
-/// est_* and err_* are empty for frames that are not ok.
+/// est_* and err_* are empty for frames that are not ok. The column
+/// receiver_occluded_fraction is written when any frame has the value (empty
+/// where a frame has none).
 std::string FormatFrameResults(const std::vector<FrameResult>& results);
 
 /// Parses FormatFrameResults's text; `where` (a file name) prefixes errors,

@@ -21,6 +21,13 @@ struct RenderJobOptions {
   std::filesystem::path receiver_model = DataFile("scenes/c12.glb");       ///< receiver glTF
   std::filesystem::path tanker_model = DataFile("scenes/kc46.glb");        ///< tanker glTF
   std::filesystem::path board_model = DataFile("scenes/calib_board.glb");  ///< calibration board glTF (calib job)
+  /// The boom (render job, docs/scenes.md "Boom"): its fixed part and its
+  /// telescoping tube, in the boom frame of boom.h.
+  std::filesystem::path boom_model = DataFile("scenes/kc46_boom.glb");
+  std::filesystem::path boom_tube_model = DataFile("scenes/kc46_boom_tube.glb");
+  /// Put the boom in the scene. A flight path with the boom columns always
+  /// has it; this adds it to a 7-column path, at BoomPose's defaults (stowed).
+  bool boom = false;
   std::filesystem::path flight_path = DataFile("flightpaths/conops.csv");  ///< flight path (render job)
   int msaa = 16;                                                           ///< 1, 4, 8, 16 or 32 samples per pixel
   float anisotropy = 1.0f;   ///< texture anisotropic filtering (1 = trilinear)
