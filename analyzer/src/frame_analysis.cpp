@@ -339,8 +339,9 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
     std::optional<BoomMasks> boom_masks;
     if (boom_masker_ && sidecar.boom) boom_masks = boom_masker_->Draw(*sidecar.boom);
     if (sidecar.boom && sidecar.files.count("left_mask") && sidecar.files.count("left_silhouette")) {
+      // The id mask was read with the depth truth when the run compares with it.
       r.receiver_occluded_fraction = ReceiverOccludedFraction(
-          ReadImage(dataset, sidecar.files.at("left_mask"), expected_hashes, cv::IMREAD_GRAYSCALE),
+          truth ? truth->ids : ReadImage(dataset, sidecar.files.at("left_mask"), expected_hashes, cv::IMREAD_GRAYSCALE),
           ReadImage(dataset, sidecar.files.at("left_silhouette"), expected_hashes, cv::IMREAD_GRAYSCALE));
     }
     const BoomMasks* boom = boom_masks ? &*boom_masks : nullptr;
