@@ -109,6 +109,19 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
                  "put the boom in the scene for a flight path without boom columns (stowed: out of view)");
     cmd.add_option("--boom-model", f.job.boom_model, "boom glTF, fixed part")->capture_default_str();
     cmd.add_option("--boom-tube-model", f.job.boom_tube_model, "boom glTF, telescoping tube")->capture_default_str();
+    cmd.add_option("--propellers", f.job.propeller_rpm,
+                   "engine speed [rpm] of the receiver's two four-blade propellers (0: none, as in the thesis; "
+                   "e.g. 1700); blurred with --shutter-ms")
+        ->capture_default_str();
+    cmd.add_option("--propeller-model", f.job.propeller_model, "propeller glTF")->capture_default_str();
+    cmd.add_option("--shutter-ms", f.job.shutter_ms,
+                   "exposure time [ms] centred on each sample: the receiver and its propellers move during it "
+                   "(motion blur); 0: an instant")
+        ->capture_default_str();
+    cmd.add_option("--time-samples", f.job.time_samples,
+                   "instants the exposure is rendered at, a power of two (with --shutter-ms; cost: max(this, MSAA "
+                   "passes) passes per view)")
+        ->capture_default_str();
     cmd.add_flag("--depth", f.job.depth,
                  "also write left-camera ground-truth depth (EXR, metres), object ids and receiver silhouette");
     cmd.add_flag("--depth-right", f.job.depth_right, "also write the same for the right camera (implies --depth)");

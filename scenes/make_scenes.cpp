@@ -1,5 +1,5 @@
 // aar-make-scenes: writes the binary glTF models used by the renderer
-// (receiver c12.glb, tanker kc46.glb, its boom kc46_boom.glb and
+// (receiver c12.glb and its propeller c12_propeller.glb, tanker kc46.glb, its boom kc46_boom.glb and
 // kc46_boom_tube.glb, calib_board.glb) deterministically, and
 // prints their measurements (body axes) for docs/scenes.md.
 //
@@ -13,6 +13,8 @@
 #include <string>
 
 #include "c12.h"
+#include "c12_airframe.h"
+#include "c12_propeller.h"
 #include "calib_board.h"
 #include "glb_writer.h"
 #include "kc46.h"
@@ -70,7 +72,7 @@ void Report(const SceneModel& scene, const std::filesystem::path& file, int atla
 
 int main(int argc, char** argv) {
   Options options;
-  CLI::App app{"Writes the receiver (C-12), tanker (KC-46), boom and calibration board glTF models."};
+  CLI::App app{"Writes the receiver (C-12) and its propeller, tanker (KC-46), boom and calibration board glTF models."};
   app.add_option("--out", options.out_dir, "Output directory")->capture_default_str();
   app.add_option("--atlas-size", options.c12.atlas_size, "C-12 texture atlas size (texels, square)")
       ->capture_default_str()
@@ -91,6 +93,12 @@ int main(int argc, char** argv) {
     std::printf("  texture %dx%d RGB PNG, %zu bytes, nominal %.1f texels/m, %d levels per channel\n",
                 options.c12.atlas_size, options.c12.atlas_size, c12.texture_png.size(), info.texels_per_m,
                 options.c12.colour_levels);
+
+    CheckPropellerHubs(MakeC12Airframe());
+    const SceneModel propeller = BuildC12Propeller();
+    const auto propeller_path = options.out_dir / "c12_propeller.glb";
+    WriteGlb(propeller, propeller_path);
+    Report(propeller, propeller_path, 0);
 
     RigClearance clearance;
     const SceneModel kc46 = BuildKc46(&clearance);

@@ -1,5 +1,6 @@
 #include "aar/flight_path.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -53,6 +54,32 @@ std::vector<FlightSample> ReadFlightPath(const std::filesystem::path& path) {
   }
   if (samples.empty()) throw Error(path.string() + ": flight path has no samples");
   return samples;
+}
+
+void CheckTimesIncrease(const std::vector<FlightSample>& path, const std::string& where) {
+  for (size_t i = 1; i < path.size(); ++i) {
+    if (!(path[i].time_s > path[i - 1].time_s)) {
+      throw Error(where + ": time_s must increase from sample to sample, but sample " + std::to_string(i) + " (" +
+                  FormatFixed(path[i].time_s, 3) + " s) follows sample " + std::to_string(i - 1) + " (" +
+                  FormatFixed(path[i - 1].time_s, 3) + " s)");
+    }
+  }
+}
+
+Eigen::Isometry3d TankerFromReceiverAt(const std::vector<FlightSample>& path, double time_s) {
+  if (path.size() == 1) return IsometryFromPose(path.front().tanker_from_receiver);
+  const auto after = std::upper_bound(path.begin(), path.end(), time_s,
+                                      [](double t, const FlightSample& s) { return t < s.time_s; });
+  const size_t k1 = std::clamp<size_t>(static_cast<size_t>(after - path.begin()), 1, path.size() - 1);
+  const FlightSample& s0 = path[k1 - 1];
+  const FlightSample& s1 = path[k1];
+  const double a = (time_s - s0.time_s) / (s1.time_s - s0.time_s);
+  const Eigen::Isometry3d p0 = IsometryFromPose(s0.tanker_from_receiver);
+  const Eigen::Isometry3d p1 = IsometryFromPose(s1.tanker_from_receiver);
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  p.translation() = (1.0 - a) * p0.translation() + a * p1.translation();
+  p.linear() = Eigen::Quaterniond(p0.linear()).slerp(a, Eigen::Quaterniond(p1.linear())).toRotationMatrix();
+  return p;
 }
 
 std::string FormatFlightPath(const std::vector<FlightSample>& samples) {

@@ -1,5 +1,6 @@
 #include "aar/renderer/scene_renderer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -430,6 +431,18 @@ SceneRenderer::ViewArea SceneRenderer::RenderArea(const Eigen::Matrix4d& clip_fr
 
 LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, const std::vector<RenderItem>& items,
                                        const MsaaPlan& plan, ViewTimings* timings) {
+  return RenderExposure(camera, near_m, {items}, plan, timings);
+}
+
+LinearImage SceneRenderer::RenderExposure(const Camera& camera, double near_m,
+                                          const std::vector<std::vector<RenderItem>>& items_at_times,
+                                          const MsaaPlan& plan, ViewTimings* timings) {
+  const size_t instants = items_at_times.size(), jitters = plan.offsets_px.size();
+  const size_t passes = std::max(instants, jitters);
+  if (instants == 0 || passes % instants != 0 || passes % jitters != 0) {
+    throw Error("exposure: " + std::to_string(instants) + " instants and " + std::to_string(jitters) +
+                " MSAA passes: the larger must be a multiple of the smaller");
+  }
   Target& target = TargetFor(plan.native_samples, false);
   LinearImage out;
   out.width = width_;
@@ -443,17 +456,26 @@ LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, cons
   }
   // Only the rectangle that can hold geometry is rendered with MSAA, and only
   // the objects that reach into it are drawn; the rest is sky or background.
+  // (over an exposure: the union of the instants' rectangles).
   const Eigen::Matrix4d cam_from_tanker = camera.tanker_from_camera.inverse().matrix();
-  const ViewArea view = RenderArea(ClipFromCamera(camera.intrinsics, near_m) * cam_from_tanker, items);
-  const PixelRect& area = view.rect;
+  std::vector<ViewArea> views;
+  for (const std::vector<RenderItem>& items : items_at_times)
+    views.push_back(RenderArea(ClipFromCamera(camera.intrinsics, near_m) * cam_from_tanker, items));
+  PixelRect area = views.front().rect;
+  for (const ViewArea& v : views) {
+    area = {std::min(area.x0, v.rect.x0), std::min(area.y0, v.rect.y0), std::max(area.x1, v.rect.x1),
+            std::max(area.y1, v.rect.y1)};
+  }
   std::vector<float> sum(static_cast<size_t>(area.width()) * area.height() * 4, 0.0f);  // linear RGBA
-  const float weight = 1.0f / static_cast<float>(plan.passes);
-  for (const Vec2& jitter : plan.offsets_px) {
+  const float weight = 1.0f / static_cast<float>(passes);
+  for (size_t pass = 0; pass < passes; ++pass) {
     auto start = std::chrono::steady_clock::now();
+    const Vec2& jitter = plan.offsets_px[pass % jitters];
+    const std::vector<RenderItem>& items = views[pass % instants].items;
     const Eigen::Matrix4d clip_from_tanker =
         ClipFromCamera(camera.intrinsics, near_m, jitter.x, jitter.y) * cam_from_tanker;
     context_.SubmitAndWait(
-        [&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, view.items, false, area, nullptr); });
+        [&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, items, false, area, nullptr); });
     if (timings) timings->render_ms += MillisecondsSince(start);
     start = std::chrono::steady_clock::now();
     ReadBack(target, area);

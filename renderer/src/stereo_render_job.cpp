@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <optional>
+#include <tuple>
 
 #include "aar/dataset.h"
 #include "aar/error.h"
@@ -13,6 +14,7 @@
 #include "aar/region.h"
 #include "aar/renderer/calib_poses.h"
 #include "aar/renderer/dataset_writer.h"
+#include "aar/renderer/exposure.h"
 #include "aar/renderer/lens_distortion.h"
 #include "aar/renderer/msaa.h"
 #include "aar/renderer/pair_writer.h"
@@ -20,6 +22,7 @@
 #include "aar/renderer/scene_renderer.h"
 #include "aar/renderer/sensor_model.h"
 #include "aar/stereo_calibration.h"
+#include "aar/text.h"
 
 namespace aar {
 namespace {
@@ -183,8 +186,11 @@ ViewTruth RenderDepthTruth(Session& session, const std::vector<RenderItem>& item
 }
 
 // Renders one stereo pair (and the truth asked for); the PairWriter encodes and writes it.
-RenderedPair RenderPair(Session& session, const std::vector<RenderItem>& items, const std::string& dir,
-                        FrameSidecar sidecar, const std::vector<std::string>& depth_sides, RenderStageTimes& times) {
+// The colour is exposed over `exposure` (the scene at each instant; one
+// instant: no motion), the truth is of `items` (the sample's own time).
+RenderedPair RenderPair(Session& session, const std::vector<std::vector<RenderItem>>& exposure,
+                        const std::vector<RenderItem>& items, const std::string& dir, FrameSidecar sidecar,
+                        const std::vector<std::string>& depth_sides, RenderStageTimes& times) {
   RenderedPair pair;
   pair.dir = dir;
   pair.sidecar = std::move(sidecar);
@@ -193,7 +199,7 @@ RenderedPair RenderPair(Session& session, const std::vector<RenderItem>& items, 
     const std::string side = view == 0 ? "left" : "right";
     ViewTimings timings;
     pair.color[view] =
-        session.renderer->RenderColor(session.RenderCamera(side), session.rig.near_m, items, session.plan, &timings);
+        session.renderer->RenderExposure(session.RenderCamera(side), session.rig.near_m, exposure, session.plan, &timings);
     times.render_ms += timings.render_ms;
     times.readback_ms += timings.readback_ms;
     if (const std::optional<LensResampler>& lens = session.Lens(side)) {
@@ -231,8 +237,8 @@ RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size
     if (SidecarVerified(options.output, SidecarPath(options.output, kind, index))) {
       ++result.skipped;
     } else {
-      auto [items, sidecar] = make_pair(index);
-      writer.Push(RenderPair(session, items, dir, std::move(sidecar), depth_sides, result.times));
+      auto [exposure, items, sidecar] = make_pair(index);
+      writer.Push(RenderPair(session, exposure, items, dir, std::move(sidecar), depth_sides, result.times));
       ++result.rendered;
     }
     if (options.progress) progress.Advance();
@@ -283,6 +289,15 @@ void RenderJobOptions::Check() const {
   if (!background.enabled() && (background.tanker_roll_deg != 0.0 || background.tanker_pitch_deg != 0.0)) {
     throw Error("--tanker-roll/--tanker-pitch: the flat sky has no horizon; use --background sky, terrain or clouds");
   }
+  if (!(propeller_rpm >= 0.0 && propeller_rpm <= 3000.0)) {
+    throw Error("--propellers " + FormatFixed(propeller_rpm, 1) + ": expected 0 (none) to 3000 rpm");
+  }
+  if (!(shutter_ms >= 0.0 && shutter_ms <= 100.0)) {
+    throw Error("--shutter-ms " + FormatFixed(shutter_ms, 3) + ": expected 0 (an instant) to 100 ms");
+  }
+  if (time_samples < 2 || time_samples > 64 || (time_samples & (time_samples - 1)) != 0) {
+    throw Error("--time-samples " + std::to_string(time_samples) + ": expected a power of two from 2 to 64");
+  }
 }
 
 RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
@@ -291,6 +306,7 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   const StereoCalibration ideal = IdealCalibration(rig);  // throws, writing nothing, for a rig it cannot describe
   const std::vector<FlightSample> path = ReadFlightPath(options.flight_path);
   options.selection.CheckWithin(path.size(), options.flight_path.string());
+  if (options.shutter_ms > 0.0) CheckTimesIncrease(path, options.flight_path.string());
   const SceneModel receiver = LoadSceneModel(options.receiver_model);
   const SceneModel tanker = LoadSceneModel(options.tanker_model);
   // The boom: posed by the path's columns, or stowed on a 7-column path with --boom.
@@ -300,12 +316,19 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
     boom = LoadSceneModel(options.boom_model);
     boom_tube = LoadSceneModel(options.boom_tube_model);
   }
+  const bool with_propellers = options.propeller_rpm > 0.0;
+  std::optional<SceneModel> propeller;
+  if (with_propellers) propeller = LoadSceneModel(options.propeller_model);
   CheckOutputFolder(options.output);
   Session session = OpenSession(options, rig, options.background);
-  const int receiver_index = session.renderer->AddModel(receiver);
+  ReceiverModels receiver_models;
+  receiver_models.airframe = session.renderer->AddModel(receiver);
+  receiver_models.object_id = kReceiverId;
   const int tanker_index = session.renderer->AddModel(tanker);
   const int boom_index = with_boom ? session.renderer->AddModel(*boom) : -1;
   const int boom_tube_index = with_boom ? session.renderer->AddModel(*boom_tube) : -1;
+  if (with_propellers) receiver_models.propeller = session.renderer->AddModel(*propeller);
+  const std::vector<double> exposure_offsets = ExposureOffsets(options.shutter_ms, options.time_samples);
   const std::vector<Eigen::Vector3d> receiver_points = receiver.AllPositions();
 
   EnsureWritableDirectory(options.output);
@@ -325,6 +348,10 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
     header["inputs"]["boom_model"] = {{"file", kBoomModelName}, {"sha256", boom_hash}};
     header["inputs"]["boom_tube_model"] = {{"file", kBoomTubeModelName}, {"sha256", boom_tube_hash}};
   }
+  if (with_propellers) {
+    header["inputs"]["propeller_model"] = {{"source", options.propeller_model.filename().string()},
+                                           {"sha256", Sha256File(options.propeller_model)}};
+  }
   header["frames"] = {{"count", path.size()},
                       {"msaa", MsaaJson(session.plan)},
                       {"depth", options.depth || options.depth_right},
@@ -334,6 +361,9 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   if (options.background.enabled()) header["frames"]["background"] = BackgroundJson(options.background);
   // Absent without the boom, so datasets without it keep their bytes.
   if (with_boom) header["frames"]["boom"] = BoomJson(path.front().boom.has_value());
+  // Absent for an instant exposure and without propellers, likewise.
+  if (options.shutter_ms > 0.0) header["frames"]["exposure"] = ExposureJson(options.shutter_ms, options.time_samples);
+  if (with_propellers) header["frames"]["propellers"] = PropellersJson(options.propeller_rpm);
   OpenManifest(options.output, header, [&] {
     CopyInput(options.output, options.rig, kRigName, rig_hash);
     CopyInput(options.output, options.receiver_model, kReceiverModelName, receiver_hash);
@@ -347,14 +377,26 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
 
   return RunPairs(options, session, path.size(), "frame", "render x" + std::to_string(options.msaa), [&](size_t i) {
     const Eigen::Isometry3d tanker_from_receiver = IsometryFromPose(path[i].tanker_from_receiver);
-    std::vector<RenderItem> items = {{tanker_index, Eigen::Isometry3d::Identity(), kTankerId},
-                                     {receiver_index, tanker_from_receiver, kReceiverId}};
+    // The scene at instant k of the exposure: tanker, receiver (instant k), boom.
     FrameSidecar s;
+    std::vector<RenderItem> boom_items;
     if (with_boom) {
       s.boom = path[i].boom.value_or(BoomPose{});
-      items.push_back({boom_index, TankerFromBoom(*s.boom), kBoomId});
-      items.push_back({boom_tube_index, TankerFromBoomTube(*s.boom), kBoomId});
+      boom_items = {{boom_index, TankerFromBoom(*s.boom), kBoomId},
+                    {boom_tube_index, TankerFromBoomTube(*s.boom), kBoomId}};
     }
+    const auto scene_with = [&](const std::vector<RenderItem>& receiver_items) {
+      std::vector<RenderItem> items = {{tanker_index, Eigen::Isometry3d::Identity(), kTankerId}};
+      items.insert(items.end(), receiver_items.begin(), receiver_items.end());
+      items.insert(items.end(), boom_items.begin(), boom_items.end());
+      return items;
+    };
+    std::vector<std::vector<RenderItem>> exposure;
+    for (const auto& receiver_items :
+         ReceiverOverExposure(receiver_models, path, i, exposure_offsets, options.propeller_rpm))
+      exposure.push_back(scene_with(receiver_items));
+    const std::vector<RenderItem> items = scene_with(
+        ReceiverItems(receiver_models, tanker_from_receiver, options.propeller_rpm, path[i].time_s));
     s.kind = "frame";
     s.index = i;
     s.time_s = path[i].time_s;
@@ -364,7 +406,7 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
     s.in_view_left = InViewFraction(receiver_points, rig.left, tanker_from_receiver);
     s.in_view_right = InViewFraction(receiver_points, rig.right, tanker_from_receiver);
     s.rig = rig;
-    return std::make_pair(items, s);
+    return std::make_tuple(exposure, items, s);
   });
 }
 
@@ -414,7 +456,7 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
     s.in_view_right = InViewFraction(board_points, rig.right, tanker_from_board);
     s.rig = rig;
     s.board = spec;
-    return std::make_pair(items, s);
+    return std::make_tuple(std::vector<std::vector<RenderItem>>{items}, items, s);
   });
 }
 

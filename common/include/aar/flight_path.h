@@ -5,6 +5,7 @@
 // optionally three more columns `boom_pitch_deg,boom_roll_deg,boom_extension_m`,
 // the tanker's boom (boom.h).
 
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -33,6 +34,18 @@ struct FlightSample {
 /// kFlightPathBoomHeader), wrong column count, a field that is not a finite
 /// number, a boom value outside BoomPose's ranges, or an empty path.
 std::vector<FlightSample> ReadFlightPath(const std::filesystem::path& path);
+
+/// Throws aar::Error naming `where` and the first pair of samples whose
+/// times do not increase: motion over an exposure (TankerFromReceiverAt)
+/// needs the path's clock.
+void CheckTimesIncrease(const std::vector<FlightSample>& path, const std::string& where);
+
+/// The receiver's pose at `time_s` on the path's clock (times increasing,
+/// CheckTimesIncrease): between the two samples around it, position linear
+/// and attitude spherical-linear (constant velocity and rate over the
+/// interval); before the first or after the last sample, extrapolated from
+/// the first or last interval. A one-sample path does not move.
+Eigen::Isometry3d TankerFromReceiverAt(const std::vector<FlightSample>& path, double time_s);
 
 /// Formats samples as CSV text with the canonical header (fixed precision);
 /// with the boom columns when the first sample has a boom (then every sample

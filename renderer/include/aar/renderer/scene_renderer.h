@@ -78,6 +78,16 @@ class SceneRenderer {
 
   LinearImage RenderColor(const Camera& camera, double near_m, const std::vector<RenderItem>& items,
                           const MsaaPlan& plan, ViewTimings* timings = nullptr);
+  /// The same over an exposure (motion blur): `items_at_times` holds the
+  /// scene at T evenly spaced instants of the exposure. The passes are
+  /// max(plan.passes, T) (each a power of two; the larger must be a multiple
+  /// of the smaller, else aar::Error): pass i draws the scene at instant
+  /// i % T with the MSAA plan's jitter i % plan.passes, and all are averaged,
+  /// so every instant and every jitter carries the same weight. One instant
+  /// is RenderColor, pass for pass.
+  LinearImage RenderExposure(const Camera& camera, double near_m,
+                             const std::vector<std::vector<RenderItem>>& items_at_times, const MsaaPlan& plan,
+                             ViewTimings* timings = nullptr);
   GroundTruthImage RenderGroundTruth(const Camera& camera, double near_m, const std::vector<RenderItem>& items);
 
  private:

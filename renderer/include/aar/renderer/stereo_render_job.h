@@ -28,6 +28,18 @@ struct RenderJobOptions {
   /// Put the boom in the scene. A flight path with the boom columns always
   /// has it; this adds it to a 7-column path, at BoomPose's defaults (stowed).
   bool boom = false;
+  /// The receiver's propeller (docs/scenes.md, "Propellers"), placed and
+  /// turned at each hub of propeller.h (render job, with propeller_rpm > 0).
+  std::filesystem::path propeller_model = DataFile("scenes/c12_propeller.glb");
+  /// Engine speed [rpm]: 0 leaves the propellers out (the thesis's receiver);
+  /// otherwise both turn at this speed, 0 to 3000.
+  double propeller_rpm = 0.0;
+  /// Exposure time of each frame [ms], centred on the sample's time: 0 is an
+  /// instant (no motion blur); otherwise the receiver and its propellers
+  /// move during the exposure (docs/rendering.md, "Motion blur"), 0 to 100.
+  double shutter_ms = 0.0;
+  /// Instants the exposure is sampled at (a power of two, 2 to 64), with shutter_ms > 0.
+  int time_samples = 16;
   std::filesystem::path flight_path = DataFile("flightpaths/conops.csv");  ///< flight path (render job)
   int msaa = 16;                                                           ///< 1, 4, 8, 16 or 32 samples per pixel
   float anisotropy = 1.0f;   ///< texture anisotropic filtering (1 = trilinear)
@@ -42,7 +54,8 @@ struct RenderJobOptions {
 
   /// Throws aar::Error naming the option (its command-line flag) when a value
   /// is out of range (MSAA level, anisotropy outside [1, 16] or NaN, the
-  /// background's values, a tanker attitude with the flat sky); the jobs
+  /// background's values, a tanker attitude with the flat sky, the
+  /// propellers' speed, the shutter and its time samples); the jobs
   /// call it before reading any input. Input defaults come from data_path.h.
   void Check() const;
 };
