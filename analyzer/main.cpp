@@ -71,7 +71,7 @@ struct RunFlags {
   std::optional<double> max_correspondence_m, disparity_offset_px, disparity_noise_px, gate_sigmas, model_pull_scale_m;
   std::optional<size_t> keep_one_in, target_points, model_queries;
   std::optional<bool> halo, subpixel, rounding, widen, balance, full_surface;
-  bool truth_cloud = false, track = false, mask_boom = false;
+  bool truth_cloud = false, track = false, mask_boom = false, mask_propellers = false;
   int boom_margin_px = aar::BoomMaskOptions{}.margin_px;
   std::vector<size_t> dump_frames;
 
@@ -135,6 +135,9 @@ struct RunFlags {
                   "(datasets with the boom)");
     cmd->add_option("--boom-margin", boom_margin_px, "--mask-boom: grow the drawn boom by this many pixels")
         ->capture_default_str();
+    cmd->add_flag("--mask-propellers", mask_propellers,
+                  "drop the sensed points inside the receiver's two propeller discs under the registered pose and "
+                  "register again, three times (datasets rendered with --propellers)");
     cmd->add_flag("--truth-cloud", truth_cloud,
                   "diagnosis: register the ideal cloud (depth truth at the sensed pixels; datasets with --depth)");
     cmd->add_flag(
@@ -196,6 +199,7 @@ struct RunFlags {
     f.track_region = track;
     f.mask_boom = mask_boom;
     f.boom_mask.margin_px = boom_margin_px;
+    f.mask_propellers = mask_propellers;
     f.Check();
     o.dump_frames = dump_frames;
     // Shards (Slurm array tasks) get folders of their own, never one another's.

@@ -90,6 +90,14 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
   // Absent without --mask-boom, so the runs made before it keep their run.json.
   if (f.mask_boom)
     options["boom_mask"] = {{"margin_px", f.boom_mask.margin_px}, {"source", "sidecar boom angles, rig"}};
+  // Absent without --mask-propellers, likewise.
+  if (f.mask_propellers) {
+    options["propeller_mask"] = {{"radial_margin_m", f.propeller_mask.radial_margin_m},
+                                 {"axial_half_width_m", f.propeller_mask.axial_half_width_m},
+                                 {"first_axial_half_width_m", f.propeller_mask.first_axial_half_width_m},
+                                 {"passes", f.propeller_mask.passes},
+                                 {"source", "common/include/aar/propeller.h's discs under the registered pose"}};
+  }
   return options;
 }
 

@@ -110,6 +110,7 @@ void FrameAnalysisOptions::Check() const {
   icp.Check();
   plane_icp.Check();
   boom_mask.Check();
+  propeller_mask.Check();
   if (reprojection.keep_one_in == 0) throw Error("reprojection keep_one_in must be at least 1");
   if (!(max_icp_rmse_m > 0)) throw Error("max_icp_rmse_m must be positive");
   if (!(disparity_noise_px >= 0)) throw Error("disparity_noise_px must not be negative");
@@ -147,9 +148,13 @@ FrameAnalyzer::FrameAnalyzer(const StereoCalibration& calibration, const Eigen::
 
 FrameAnalyzer::Registered FrameAnalyzer::Register(const std::vector<Eigen::Vector3d>& sensed,
                                                   const std::optional<Pose>& previous) const {
-  const Eigen::Isometry3d initial = options_.seed == IcpSeed::kPreviousFrame && previous
-                                        ? IsometryFromPose(*previous)
-                                        : InitialGuessAtCentroid(sensed, model_points_);
+  return RegisterFrom(sensed, options_.seed == IcpSeed::kPreviousFrame && previous
+                                  ? IsometryFromPose(*previous)
+                                  : InitialGuessAtCentroid(sensed, model_points_));
+}
+
+FrameAnalyzer::Registered FrameAnalyzer::RegisterFrom(const std::vector<Eigen::Vector3d>& sensed,
+                                                      const Eigen::Isometry3d& initial) const {
   if (point_icp_) {
     const IcpResult r = point_icp_->Register(sensed, initial);
     return {r.tanker_from_receiver, r.iterations, r.converged, r.rmse_m, r.num_inliers};
@@ -239,6 +244,15 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
 
     start = std::chrono::steady_clock::now();
     icp = Register(cloud.points_in_tanker, seed);
+    if (options_.mask_propellers) {
+      for (int pass = 0; pass < options_.propeller_mask.passes; ++pass) {
+        const PropellerMaskOptions& m = options_.propeller_mask;
+        icp = RegisterFrom(OutsidePropellerDiscs(cloud.points_in_tanker, icp.tanker_from_receiver,
+                                                 tanker_from_rect_left_.translation(), m,
+                                                 pass == 0 ? m.first_axial_half_width_m : m.axial_half_width_m),
+                           icp.tanker_from_receiver);
+      }
+    }
     r.times.icp_ms += MillisecondsSince(start);
     // Near frames: part of the receiver beyond the search gives no (or
     // wrong) disparities; search again up to what the estimate needs.

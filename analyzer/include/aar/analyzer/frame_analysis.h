@@ -17,6 +17,7 @@
 #include "aar/analyzer/icp.h"
 #include "aar/analyzer/plane_icp.h"
 #include "aar/analyzer/pose_statistics.h"
+#include "aar/analyzer/propeller_mask.h"
 #include "aar/analyzer/reference_model.h"
 #include "aar/analyzer/reprojection.h"
 #include "aar/analyzer/stereo_truth.h"
@@ -123,6 +124,11 @@ struct FrameAnalysisOptions {
   /// Off by default (datasets without the boom are unaffected either way).
   bool mask_boom = false;
   BoomMaskOptions boom_mask;
+  /// Drop the sensed points inside the receiver's propeller discs under the
+  /// registered pose and register again (propeller_mask.h). Off by default:
+  /// the thesis's receiver has no propellers.
+  bool mask_propellers = false;
+  PropellerMaskOptions propeller_mask;
 
   /// The options of a preset: kDefault = these defaults; kThesis = BM 9/48
   /// with speckle filter, no halo removal, no rounding correction, no
@@ -192,6 +198,7 @@ class FrameAnalyzer {
     size_t inliers;
   };
   Registered Register(const std::vector<Eigen::Vector3d>& sensed, const std::optional<Pose>& previous) const;
+  Registered RegisterFrom(const std::vector<Eigen::Vector3d>& sensed, const Eigen::Isometry3d& initial) const;
   // Rectify, match, re-project and register in `roi` (empty: the whole image).
   Registered Measure(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, const std::optional<Pose>& seed,
                      const std::optional<DepthTruth>& truth, const std::string& left_path, const BoomMasks* boom,
