@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import realism_report
-from .outputs import calibration_errors, group_counts, group_stats, read_json
+from .outputs import calibration_errors, group_counts, group_stats, ok_rows, read_frames, read_json
 from .registry import register
 from .runner import ROOT, ExperimentError, analyze, calibrate, render_calib, render_frames
 
@@ -38,6 +38,7 @@ RIG_NOISY = "scenes/rig-noisy.json"
 PRESET = ("--preset", "default")  # the analyzer's default pipeline, named
 PROPELLERS = ("--propellers", "1700")
 SHUTTER = ("--shutter-ms", "4")
+QUICK_TIME_SAMPLES = ("--time-samples", "4")  # --quick: 4 instants over the exposure, not the renderer's default
 MSAA = {"quick": 4, "full": 16}
 
 
@@ -50,8 +51,9 @@ class Effect:
     render: tuple = ()        # more aar-render render flags
     needs: tuple = ()         # aar-render render flags it needs (left out when not listed by --help)
     mask_boom: bool = False   # also analyzed with --mask-boom
+    suffix: str = ""          # appended to the dataset's name (a dataset per set of render flags)
     dataset: Path = None      # set by run()
-    runs: dict = field(default_factory=dict)  # variant ("", "ideal", "mask-boom") -> run folder
+    runs: dict = field(default_factory=dict)  # variant ("boards", "mask-boom", "ideal") -> run folder
 
 
 def render_flags(ctx):
@@ -89,7 +91,8 @@ def combined_rig(ctx):
 
 def effect_table(ctx, flags):
     """(effects in report order, effects left out) for this aar-render's `render` flags."""
-    optional = [f for f in (PROPELLERS, SHUTTER) if f[0] in flags]
+    shutter = SHUTTER + (QUICK_TIME_SAMPLES if ctx.quick and QUICK_TIME_SAMPLES[0] in flags else ())
+    optional = [f for f in (PROPELLERS, shutter) if f[0] in flags]
     together = ("--background", "terrain") + tuple(x for f in optional for x in f)
     table = [
         Effect("baseline", "none: pinhole lens, noise-free sensor, no boom, flat sky (the thesis's world)"),
@@ -98,13 +101,12 @@ def effect_table(ctx, flags):
                rig=RIG_NOISY),
         Effect("boom", f"the refueling boom, posed by `{BOOM_PATH}`", path=BOOM_PATH, mask_boom=True),
         Effect("terrain", "terrain behind the receiver (`--background terrain`)", render=("--background", "terrain")),
-        Effect("motion-blur", "motion blur: a 4 ms exposure (`--shutter-ms 4`)", render=SHUTTER, needs=SHUTTER[:1]),
-        Effect("propellers", "spinning propellers, 1700 rpm, 4 ms exposure", render=PROPELLERS + SHUTTER,
+        Effect("motion-blur", "motion blur: a 4 ms exposure (`--shutter-ms 4`)", render=shutter, needs=SHUTTER[:1]),
+        Effect("propellers", "spinning propellers, 1700 rpm, 4 ms exposure", render=PROPELLERS + shutter,
                needs=(PROPELLERS[0], SHUTTER[0])),
-        Effect("all" + "".join("-" + f[0][2:] for f in optional),
-               "all together: lens and sensor (`rig-all.json`), boom, terrain"
+        Effect("all", "all together: lens and sensor (`rig-all.json`), boom, terrain"
                + "".join(f", `{' '.join(f)}`" for f in optional), rig=combined_rig(ctx), path=BOOM_PATH,
-               render=together, mask_boom=True),
+               render=together, mask_boom=True, suffix="".join("-" + f[0][2:] for f in optional)),
     ]
     used = [e for e in table if all(f in flags for f in e.needs)]
     left_out = [e for e in table if e not in used]
@@ -115,7 +117,7 @@ def dataset_name(effect, msaa):
     # The full baseline is Experiment 2's dataset (the same flags), rendered once for both.
     if effect.key == "baseline" and msaa == 16:
         return "conops-x16"
-    return f"realism-x{msaa}-{effect.key}"
+    return f"realism-x{msaa}-{effect.key}{effect.suffix}"
 
 
 def measure(ctx, effect, msaa, sel, baseline_calibration):
@@ -128,7 +130,7 @@ def measure(ctx, effect, msaa, sel, baseline_calibration):
         cal = calibrate(ctx, ds, ctx.out / "calibrations" / effect.key)
     render_frames(ctx, ds, msaa, effect.path, sel, tuple(effect.render) + rig_args)
     yaml = cal / "calibration.yaml"
-    effect.runs[""] = analyze(ctx, effect.key, ds, "shelled", sel, calibration=yaml, extra=PRESET)
+    effect.runs["boards"] = analyze(ctx, effect.key, ds, "shelled", sel, calibration=yaml, extra=PRESET)
     effect.runs["ideal"] = analyze(ctx, f"{effect.key}-ideal", ds, "shelled", sel,
                                    calibration=ds / "calibration_ideal.yaml", extra=PRESET)
     if effect.mask_boom:
@@ -137,15 +139,22 @@ def measure(ctx, effect, msaa, sel, baseline_calibration):
     return cal
 
 
+GROSS_DEG = 5.0  # an attitude error beyond this (any of roll, pitch, yaw) counts as a gross failure
+
+
 def region_results(run_dir):
-    """{region: {"mae": tuple in COMPONENTS order or None, "ok": n, "frames": n}} for the regions analyzed."""
+    """{region: {"mae": tuple in COMPONENTS order or None, "ok": n, "frames": n, "gross": n}} for the regions
+    analyzed; gross: measured frames with an attitude error beyond GROSS_DEG (frames.csv)."""
     summary = read_json(run_dir / "summary.json")
+    rows = ok_rows(read_frames(run_dir))
     out = {}
     for region in ("A", "B", "C"):
         ok, frames = group_counts(summary, "shelled", region)
         if frames:
+            gross = sum(1 for r in rows if r["region"] == region
+                        and max(abs(r[f"err_{c}_deg"]) for c in ("roll", "pitch", "yaw")) > GROSS_DEG)
             out[region] = {"mae": group_stats(summary, "shelled", region, "mean_abs_error"), "ok": ok,
-                           "frames": frames}
+                           "frames": frames, "gross": gross}
     return out
 
 
@@ -162,7 +171,8 @@ def run(ctx):
     calibrations = {}  # effect key -> calibration folder it was analyzed with
     for effect in effects:
         calibrations[effect.key] = measure(ctx, effect, msaa, sel, calibrations.get("baseline"))
-    results = {"msaa": msaa, "selection": list(sel) if sel else None, "effects": {}, "calibrations": {},
+    results = {"msaa": msaa, "selection": list(sel) if sel else None, "gross_deg": GROSS_DEG, "effects": {},
+               "calibrations": {},
                "left_out": {e.key: [f for f in e.needs if f not in flags] for e in left_out}}
     for effect in effects:
         cal = calibrations[effect.key]

@@ -11,15 +11,15 @@ from .runner import ROOT, rel, selection_text
 from .thesis import COMPONENT_HEADERS, REGION_RANGES, REGIONS
 
 # Analysis variants, in table order: key in results' "variants", label.
-VARIANTS = (("", "calibrated"), ("mask-boom", "calibrated, `--mask-boom`"), ("ideal", "exact calibration"))
-SHORT = {"": "", "mask-boom": ", masked", "ideal": ", exact"}
+VARIANTS = (("boards", "calibrated"), ("mask-boom", "calibrated, `--mask-boom`"), ("ideal", "exact calibration"))
+SHORT = {"boards": "", "mask-boom": ", masked", "ideal": ", exact"}
 
 
 def ratio_to_baseline(results, key, variant, region):
     """Per component: the variant's mean absolute error over the baseline's with the same calibration kind
     (the exact one for "ideal", its boards otherwise); None where either is missing."""
     mine = results["effects"][key]["variants"].get(variant, {}).get(region)
-    base = results["effects"]["baseline"]["variants"].get("ideal" if variant == "ideal" else "", {}).get(region)
+    base = results["effects"]["baseline"]["variants"].get("ideal" if variant == "ideal" else "boards", {}).get(region)
     if not mine or not base or not mine["mae"] or not base["mae"]:
         return (None,) * 6
     return tuple(m / b if m is not None and b else None for m, b in zip(mine["mae"], base["mae"]))
@@ -81,12 +81,12 @@ def _region_section(ctx, rep, results, region):
             ratios = ratio_to_baseline(results, key, variant, region) if key != "baseline" else (None,) * 6
             mae = r["mae"] or (None,) * 6
             cells = [fmt(v) + (f" ({q:.2f})" if q is not None else "") for v, q in zip(mae, ratios)]
-            rows.append([f"`{key}`" if first else "", label] + cells + [f"{r['ok']}/{r['frames']}"])
+            rows.append([f"`{key}`" if first else "", label] + cells + [f"{r['ok']}/{r['frames']}", str(r["gross"])])
             first = False
-    rep.table(["Effect", "Analysis"] + list(COMPONENT_HEADERS) + ["Frames ok/all"], rows,
-              ["---", "---"] + ["---:"] * 7)
+    rep.table(["Effect", "Analysis"] + list(COMPONENT_HEADERS) + ["Frames ok/all", f"> {results['gross_deg']:g} deg"],
+              rows, ["---", "---"] + ["---:"] * 8)
     series = []
-    cats = [(key, variant) for key in results["effects"] if key != "baseline" for variant in ("", "mask-boom")
+    cats = [(key, variant) for key in results["effects"] if key != "baseline" for variant in ("boards", "mask-boom")
             if region in results["effects"][key]["variants"].get(variant, {})]
     for i, header in enumerate(COMPONENT_HEADERS):
         series.append((header.split(" ")[0], [ratio_to_baseline(results, k, v, region)[i] for k, v in cats]))
@@ -97,7 +97,8 @@ def _region_section(ctx, rep, results, region):
     rep.image(path, f"Region {region}: each effect's mean absolute error per degree of freedom over the "
                     "baseline's, both calibrated from their boards (1 = no change; log scale)")
     worst = max(((q, k + SHORT[v], COMPONENT_HEADERS[i]) for k, v in cats
-                 for i, q in enumerate(ratio_to_baseline(results, k, v, region)) if q is not None), default=None)
+                 for i, q in enumerate(ratio_to_baseline(results, k, v, region)) if q is not None),
+                default=None, key=lambda t: t[0])
     if worst:
         rep.p(f"Largest ratio in region {region}: `{worst[1]}`, {worst[2]}: {worst[0]:.2f} times the baseline's.")
 
@@ -118,7 +119,9 @@ def write(ctx, effects, left_out, results, sel):
     _calibration_section(ctx, rep, results)
     rep.h("Pose error per region")
     rep.p("Mean absolute error (`summary.json`, `mean_abs_error`), with the ratio to the baseline's in "
-          "parentheses. Few frames per region make single components noisy: two good calibrations of the same "
+          f"parentheses. \"> {results['gross_deg']:g} deg\": measured frames whose roll, pitch or yaw error exceeds "
+          f"{results['gross_deg']:g} deg (`frames.csv`), the gross failures that can dominate a mean. "
+          "Few frames per region make single components noisy: two good calibrations of the same "
           "pinhole images differ by up to 48 % in a component of region C (docs/performance.md, \"Lens "
           "distortion\").")
     for region in _regions(results):
