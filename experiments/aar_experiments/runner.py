@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parents[2]
 # ("frames", "a:b") = the frames a to b - 1; ("frames", "a:b", "K/N") = those
 # of them with i % N == K.
 SELECTIONS = {
-    # realism 0/6: 102 frames, 20 in A, 38 in B, 44 in C.
+    # realism 0/6: 102 frames, 20 in A, 39 in B, 43 in C.
     "full": {"char": None, "conops": None, "conops_thesis": None, "determinism": ("shard", "0/15"),
              "determinism_runs": 10, "realism": ("shard", "0/6")},
     # char 0/56: 10 frames, 4 in 20-60 m, 5 in 60-110 m; conops 0/61: 10
