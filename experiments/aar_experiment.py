@@ -11,7 +11,10 @@ dataset manifest hashes, software versions and the machine.
                     on the thesis rig, where the receiver's tail leaves the view
   msaa              thesis Experiment 3: Tables 6-11, Figures 25-32
   determinism       thesis Appendix A: Figures 33-34
-  all               the four, in that order (conops on both geometries; with
+  realism           beyond the thesis (issue 9): lens distortion, the sensor
+                    model, the boom, terrain, propellers and motion blur (when
+                    aar-render has them), each alone and all together
+  all               the five, in that order (conops on both geometries; with
                     --quick on the default one unless --geometry thesis)
 
 Datasets are rendered into --datasets (default datasets/) and reused: calling

@@ -35,8 +35,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 REPO = Path(__file__).resolve().parent.parent
-COMPONENTS = ("x_m", "y_m", "z_m", "roll_deg", "pitch_deg", "yaw_deg")
-REGIONS = ("A", "B", "C")
+sys.path.insert(0, str(REPO / "experiments"))
+from aar_experiments.outputs import calibration_errors  # noqa: E402  (shared with the realism experiment)
+from aar_experiments.thesis import COMPONENTS, REGIONS  # noqa: E402
 
 
 def run(command):
@@ -70,16 +71,16 @@ def measure(level, args):
         pairing = ["--pairing", args.pairing] if args.pairing else []
         run([args.analyze, "run", dataset, "--shard", args.shard, "--calibration", calib_out / "calibration.yaml",
              "--out", run_out, "--no-progress"] + pairing)
-    calibration = json.loads((calib_out / "calibration_report.json").read_text())
+    calibration = calibration_errors(calib_out)
     summary = json.loads((run_out / "summary.json").read_text())["models"]["shelled"]
     first = min(dataset.glob("frames/*_left.png"))
     sky = matplotlib.image.imread(first)[:64, :64, :3] * 255.0  # the top-left corner: sky in every frame
     return {
         "level": level,
         "sky_noise_codes": float(np.mean(np.std(sky, axis=(0, 1), ddof=1))),
-        "rms_px": calibration["rms_reprojection_px"],
-        "focal_error_percent": calibration["versus_ideal"]["focal_error_percent"],
-        "baseline_error_percent": calibration["versus_ideal"]["baseline_error_percent"],
+        "rms_px": calibration["rms_px"],
+        "focal_error_percent": calibration["focal_error_percent"],
+        "baseline_error_percent": calibration["baseline_error_percent"],
         "regions": {r: {"ok": summary[r]["ok"], "frames": summary[r]["frames"],
                         "mae": summary[r]["mean_abs_error"]} for r in REGIONS if r in summary},
     }

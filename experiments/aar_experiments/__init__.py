@@ -1,4 +1,5 @@
-"""The thesis's experiments (Parsons 2017, chapter IV and Appendix A), run by experiments/aar_experiment.py.
+"""The thesis's experiments (Parsons 2017, chapter IV and Appendix A) and the realism experiment beyond them,
+run by experiments/aar_experiment.py.
 
   thesis            the thesis's layout and numbers (experiments/thesis_tables.json)
   runner            running aar-render and aar-analyze, the analysis cache, provenance
@@ -10,5 +11,6 @@
     conops            thesis Experiment 2
     msaa              thesis Experiment 3
     determinism       thesis Appendix A
+    realism           beyond the thesis: each realism effect alone and together (with realism_report)
   cli               the command line: a subcommand per registered experiment, and `all`
 """

@@ -44,14 +44,15 @@ def parse_args(argv, registered):
                              "geometry's report in OUT/conops-thesis (`all --quick`: default only), unless one is "
                              "named")
     common.add_argument("--shard", metavar="K/N",
-                        help="conops only: render and analyze the frames i with i %% N == K (a subset spread "
-                             "over the whole path) instead of every frame")
+                        help="conops and realism only: render and analyze the frames i with i %% N == K (a subset "
+                             "spread over the whole path) instead of every frame (conops) or every 6th (realism)")
     common.add_argument("--quick", action="store_true",
                         help="a few frames per region or range bin (smoke test, a few minutes for `all`)")
     parser = argparse.ArgumentParser(
         prog="aar_experiment.py",
-        description="Reproduce Parsons (2017) chapter IV and Appendix A with aar-render and aar-analyze; "
-                    "writes report.md, PNG plots and provenance per experiment.",
+        description="Reproduce Parsons (2017) chapter IV and Appendix A with aar-render and aar-analyze, and "
+                    "measure what the thesis's world lacked (realism); writes report.md, PNG plots and "
+                    "provenance per experiment.",
         epilog="Relative paths are taken from the current directory; commands run in the repository root. "
                "Exit status is non-zero when any step fails or an expected output is missing.")
     sub = parser.add_subparsers(dest="experiment", required=True, metavar="EXPERIMENT")

@@ -80,3 +80,28 @@ def frames_csv_without_timing(path):
         for line in f.read().splitlines():
             out.append(",".join(line.split(",")[:28]))
     return ("\n".join(out) + "\n").encode()
+
+
+# Errors of a calibration against the rig it was rendered with (calibration_report.json; docs/analysis.md,
+# "Calibration"): key, heading, digits. The ray error is the larger of the two cameras' largest distance,
+# over the image, between a pixel undistorted with the estimate and with the rig's own lens.
+CALIBRATION_ERRORS = (("rms_px", "RMS re-projection (px)", 4), ("epipolar_px", "Epipolar (px)", 4),
+                      ("focal_error_percent", "Focal error (%)", 3),
+                      ("baseline_error_percent", "Baseline error (%)", 3),
+                      ("principal_point_error_px", "Left principal point error (px)", 3),
+                      ("rotation_error_deg", "Rotation error (deg)", 4),
+                      ("ray_error_max_px", "Largest ray error (px)", 3))
+
+
+def calibration_errors(calibration_dir):
+    """{key of CALIBRATION_ERRORS: value (None when absent), "pairs": pairs used, "distortion": whether the
+    lens was estimated} from calibration_dir/calibration_report.json."""
+    r = read_json(calibration_dir / "calibration_report.json")
+    v = r.get("versus_ideal", {})
+    rays = [v[k] for k in ("left_ray_error_max_px", "right_ray_error_max_px") if v.get(k) is not None]
+    return {"rms_px": r["rms_reprojection_px"], "epipolar_px": r.get("epipolar_error_px"),
+            "focal_error_percent": v.get("focal_error_percent"),
+            "baseline_error_percent": v.get("baseline_error_percent"),
+            "principal_point_error_px": v.get("left_principal_point_error_px"),
+            "rotation_error_deg": v.get("rotation_error_deg"), "ray_error_max_px": max(rays) if rays else None,
+            "pairs": r.get("used_pairs"), "distortion": "distortion" in r}

@@ -137,9 +137,10 @@ def panels_vs_x(path, title, xlabel, panels, edges=(), shades=(), xlim=None, lin
     return _save(fig, path)
 
 
-def grouped_bars(path, title, ylabel, categories, series, logy=False):
-    """Grouped bars: series is a list of (label, values per category)."""
-    fig, ax = plt.subplots(figsize=(8, 4.5))
+def grouped_bars(path, title, ylabel, categories, series, logy=False, hline=None, rotation=0, figsize=(8, 4.5)):
+    """Grouped bars: series is a list of (label, values per category); hline: a reference level drawn across
+    (a ratio's 1); rotation: of the category labels (deg)."""
+    fig, ax = plt.subplots(figsize=figsize)
     n = max(len(series), 1)
     width = 0.8 / n
     for k, (label, values) in enumerate(series):
@@ -147,7 +148,9 @@ def grouped_bars(path, title, ylabel, categories, series, logy=False):
         ys = [v if v is not None else 0.0 for v in values]
         ax.bar(xs, ys, width=width, label=label, color=_COLORS[k % len(_COLORS)])
     ax.set_xticks(range(len(categories)))
-    ax.set_xticklabels(categories)
+    ax.set_xticklabels(categories, rotation=rotation, ha="right" if rotation else "center")
+    if hline is not None:
+        ax.axhline(hline, color="black", linewidth=0.8)
     if logy:
         ax.set_yscale("log")
     ax.set_ylabel(ylabel)

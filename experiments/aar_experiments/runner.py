@@ -21,16 +21,19 @@ ROOT = Path(__file__).resolve().parents[2]
 
 # Frame selections. None = every frame of the flight path. ("shard", "K/N")
 # = frames i with i % N == K, spread over the whole path.
-# ("frames", "a:b") = the frames a to b - 1.
+# ("frames", "a:b") = the frames a to b - 1; ("frames", "a:b", "K/N") = those
+# of them with i % N == K.
 SELECTIONS = {
+    # realism 0/6: 102 frames, 20 in A, 39 in B, 43 in C.
     "full": {"char": None, "conops": None, "conops_thesis": None, "determinism": ("shard", "0/15"),
-             "determinism_runs": 10},
+             "determinism_runs": 10, "realism": ("shard", "0/6")},
     # char 0/56: 10 frames, 4 in 20-60 m, 5 in 60-110 m; conops 0/61: 10
     # frames, 2 in A, 4 in B, 4 in C; conops_thesis (the thesis geometry,
     # conops.py): 28 frames at 40.5-35.4 m, the 14 with the tail out of view
     # (343-356) and 7 on either side.
+    # realism: frames 391, 456, 521 and 586, region C (32-38 m).
     "quick": {"char": ("shard", "0/56"), "conops": ("shard", "0/61"), "conops_thesis": ("frames", "336:364"),
-              "determinism": ("shard", "0/61"), "determinism_runs": 10},
+              "determinism": ("shard", "0/61"), "determinism_runs": 10, "realism": ("frames", "349:609", "1/65")},
 }
 
 
@@ -62,16 +65,20 @@ def sha256_bytes(data):
 def selection_args(selection):
     if selection is None:
         return []
-    kind, value = selection
-    return ["--" + kind, value]
+    kind, value = selection[:2]
+    return ["--" + kind, value] + (["--shard", selection[2]] if len(selection) > 2 else [])
 
 
 def selection_text(selection):
     if selection is None:
         return "all frames"
-    kind, value = selection
+    kind, value = selection[:2]
     if kind == "frames":
         a, b = value.split(":")
+        if len(selection) > 2:
+            k, n = selection[2].split("/")
+            return (f"frames i from {a} to {int(b) - 1} with i % {n} == {k} "
+                    f"(--frames {value} --shard {selection[2]})")
         return f"frames {a} to {int(b) - 1} (--frames {value})"
     return f"frames i with i % {value.split('/')[1]} == {value.split('/')[0]} (--shard {value})"
 
@@ -80,10 +87,14 @@ def selected_frames(selection, count):
     """The frame indices a selection picks from a flight path of `count` samples, ascending."""
     if selection is None:
         return list(range(count))
-    kind, value = selection
+    kind, value = selection[:2]
     if kind == "frames":
         a, b = (int(v) for v in value.split(":"))
-        return list(range(max(a, 0), min(b, count)))
+        frames = list(range(max(a, 0), min(b, count)))
+        if len(selection) > 2:
+            k, n = (int(v) for v in selection[2].split("/"))
+            frames = [i for i in frames if i % n == k]
+        return frames
     k, n = (int(v) for v in value.split("/"))
     return list(range(k, count, n))
 
@@ -116,7 +127,8 @@ class Ctx:
         self.geometry = getattr(args, "geometry", None) or "default"
         self.sel = SELECTIONS["quick" if args.quick else "full"]
         if getattr(args, "shard", None):
-            self.sel = dict(self.sel, conops=("shard", args.shard), conops_thesis=("shard", args.shard))
+            self.sel = dict(self.sel, conops=("shard", args.shard), conops_thesis=("shard", args.shard),
+                            realism=("shard", args.shard))
         self.memo = memo            # shared across experiments of one `all`
         self.commands = []          # (step, command line, seconds or None when reused)
         self.datasets_used = {}     # name -> path

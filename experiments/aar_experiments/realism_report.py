@@ -1,0 +1,129 @@
+"""The realism experiment's report: the effects, the calibrations' errors, each region's errors against the
+baseline's, the figures. Numbers come from results.json's dictionary (realism.run), which holds them as the
+analyzer wrote them."""
+
+import json
+
+from . import plots
+from .outputs import CALIBRATION_ERRORS
+from .report import Report, conclude, fmt
+from .runner import ROOT, rel, selection_text
+from .thesis import COMPONENT_HEADERS, REGION_RANGES, REGIONS
+
+# Analysis variants, in table order: key in results' "variants", label.
+VARIANTS = (("boards", "calibrated"), ("mask-boom", "calibrated, `--mask-boom`"), ("ideal", "exact calibration"))
+SHORT = {"boards": "", "mask-boom": ", masked", "ideal": ", exact"}
+
+
+def ratio_to_baseline(results, key, variant, region):
+    """Per component: the variant's mean absolute error over the baseline's with the same calibration kind
+    (the exact one for "ideal", its boards otherwise); None where either is missing."""
+    mine = results["effects"][key]["variants"].get(variant, {}).get(region)
+    base = results["effects"]["baseline"]["variants"].get("ideal" if variant == "ideal" else "boards", {}).get(region)
+    if not mine or not base or not mine["mae"] or not base["mae"]:
+        return (None,) * 6
+    return tuple(m / b if m is not None and b else None for m, b in zip(mine["mae"], base["mae"]))
+
+
+def _effects_section(rep, effects, left_out, results):
+    rep.h("The effects")
+    rows = []
+    for e in effects:
+        boards = "its own" if e.rig or e.key == "baseline" else "the baseline's"
+        rows.append([f"`{e.key}`", e.what, f"`{rel(ROOT / e.rig) if e.rig else 'scenes/rig.json'}`", f"`{e.path}`",
+                     f"`{' '.join(e.render)}`" if e.render else "", boards, f"`{e.dataset.name}`"])
+    rep.table(["Effect", "What", "Rig", "Flight path", "More `aar-render render` flags", "Calibration boards",
+               "Dataset"], rows, ["---"] * 7)
+    sensor = json.loads((ROOT / "scenes/rig-noisy.json").read_text()).get("sensor")
+    rep.p(f"The sensor block of `scenes/rig-noisy.json` (docs/rendering.md, \"Sensor model\"): `{json.dumps(sensor)}`. "
+          "`rig-all.json`, beside this report, is that rig with the two lenses of `scenes/rig-distorted.json`.")
+    for e in left_out:
+        missing = ", ".join(f"`{f}`" for f in results["left_out"][e.key])
+        rep.p(f"**Left out: `{e.key}`** ({e.what}): this `aar-render render --help` lists no {missing}.")
+
+
+def _calibration_section(ctx, rep, results):
+    rep.h("Calibration errors against the rig")
+    rep.p("`aar-analyze calibrate` on the 12 board pairs rendered through each rig at the same MSAA level "
+          "(`calibration_report.json`, `versus_ideal`: against the rig the boards were rendered with). The lens "
+          "is estimated (k1 k2 p1 p2) when the rig declares one. The largest ray error is the larger of the two "
+          "cameras' largest distance, over the image, between a pixel undistorted with the estimate and with "
+          "the rig's own lens: what the calibration gets wrong anywhere in the image, lens included.")
+    cals = results["calibrations"]
+    rows = [[f"`{k}`", str(c["pairs"]), "yes" if c["distortion"] else "no"]
+            + [fmt(c[key], digits) for key, _, digits in CALIBRATION_ERRORS] for k, c in cals.items()]
+    rep.table(["Boards of", "Pairs used", "Lens estimated"] + [h for _, h, _ in CALIBRATION_ERRORS], rows,
+              ["---", "---:", "---"] + ["---:"] * len(CALIBRATION_ERRORS))
+    path = ctx.out / "realism_calibration.png"
+    plots.grouped_bars(path, "Calibration error against the rig, per rig (12 boards)", "error (px)", list(cals),
+                       [(h, [cals[k][key] for k in cals]) for key, h, _ in CALIBRATION_ERRORS
+                        if key in ("rms_px", "epipolar_px", "ray_error_max_px")], logy=True)
+    rep.image(path, "RMS re-projection, epipolar and largest ray error of each rig's calibration (log scale)")
+
+
+def _regions(results):
+    present = set()
+    for e in results["effects"].values():
+        for v in e["variants"].values():
+            present.update(v)
+    return [g for g in REGIONS if g in present]
+
+
+def _region_section(ctx, rep, results, region):
+    rep.h(f"Region {region} ({REGION_RANGES[region]}): mean absolute error", 3)
+    rows = []
+    for key, e in results["effects"].items():
+        first = True
+        for variant, label in VARIANTS:
+            r = e["variants"].get(variant, {}).get(region)
+            if r is None:
+                continue
+            ratios = ratio_to_baseline(results, key, variant, region) if key != "baseline" else (None,) * 6
+            mae = r["mae"] or (None,) * 6
+            cells = [fmt(v) + (f" ({q:.2f})" if q is not None else "") for v, q in zip(mae, ratios)]
+            rows.append([f"`{key}`" if first else "", label] + cells + [f"{r['ok']}/{r['frames']}", str(r["gross"])])
+            first = False
+    rep.table(["Effect", "Analysis"] + list(COMPONENT_HEADERS) + ["Frames ok/all", f"> {results['gross_deg']:g} deg"],
+              rows, ["---", "---"] + ["---:"] * 8)
+    series = []
+    cats = [(key, variant) for key in results["effects"] if key != "baseline" for variant in ("boards", "mask-boom")
+            if region in results["effects"][key]["variants"].get(variant, {})]
+    for i, header in enumerate(COMPONENT_HEADERS):
+        series.append((header.split(" ")[0], [ratio_to_baseline(results, k, v, region)[i] for k, v in cats]))
+    path = ctx.out / f"realism_ratio_{region}.png"
+    plots.grouped_bars(path, f"Region {region}: mean absolute error over the baseline's (calibrated from boards)",
+                       "ratio to the baseline (log)", [k + SHORT[v] for k, v in cats], series, logy=True, hline=1.0,
+                       rotation=20, figsize=(9, 4.8))
+    rep.image(path, f"Region {region}: each effect's mean absolute error per degree of freedom over the "
+                    "baseline's, both calibrated from their boards (1 = no change; log scale)")
+    worst = max(((q, k + SHORT[v], COMPONENT_HEADERS[i]) for k, v in cats
+                 for i, q in enumerate(ratio_to_baseline(results, k, v, region)) if q is not None),
+                default=None, key=lambda t: t[0])
+    if worst:
+        rep.p(f"Largest ratio in region {region}: `{worst[1]}`, {worst[2]}: {worst[0]:.2f} times the baseline's.")
+
+
+def write(ctx, effects, left_out, results, sel):
+    rep = Report(ctx, "Realism: each effect alone and all together (issue 9, item 6)")
+    rep.p("Beyond the thesis: its virtual world lacked the lens, the image sensor, the boom, a textured "
+          "background, spinning propellers and motion blur (chapter V, 5.4). Each effect is rendered alone on "
+          f"the same CONOPS frames ({selection_text(sel)}), at MSAA x{results['msaa']}, then all together, and "
+          "analyzed with `aar-analyze run --preset default` (the analyzer's default pipeline), shelled model. "
+          "**Calibrated**: with the calibration from the 12 board pairs rendered through the effect's rig (the "
+          "lens, sensor and all-together effects; the others do not change the board images and use the "
+          "baseline's). **Exact calibration**: with the dataset's `calibration_ideal.yaml`, the imaging alone. "
+          "In parentheses: the ratio to the baseline's error with the same kind of calibration. The boom's "
+          "datasets are also analyzed with `--mask-boom` (boom pixels removed from the tanker's own boom angles "
+          "and the rig). All numbers are in `results.json` beside this report.")
+    _effects_section(rep, effects, left_out, results)
+    _calibration_section(ctx, rep, results)
+    rep.h("Pose error per region")
+    rep.p("Mean absolute error (`summary.json`, `mean_abs_error`), with the ratio to the baseline's in "
+          f"parentheses. \"> {results['gross_deg']:g} deg\": measured frames whose roll, pitch or yaw error exceeds "
+          f"{results['gross_deg']:g} deg (`frames.csv`), the gross failures that can dominate a mean. "
+          "Few frames per region make single components noisy: two good calibrations of the same "
+          "pinhole images differ by up to 48 % in a component of region C (docs/performance.md, \"Lens "
+          "distortion\").")
+    for region in _regions(results):
+        _region_section(ctx, rep, results, region)
+    return conclude(ctx, rep, [r for e in effects for r in e.runs.values()])
