@@ -10,7 +10,8 @@ analyzed with the default preset and the shelled model:
     the baseline's boards (the effect does not change the board images);
   - with the dataset's exact calibration (calibration_ideal.yaml): the
     imaging alone, without the calibration's error;
-  - for the boom, also with `aar-analyze run --mask-boom`.
+  - for the boom and the propellers, also with the analyzer's masks (`aar-analyze run --mask-boom`,
+    `--mask-propellers`).
 
 The report has, per region, each degree of freedom's mean absolute error and
 its ratio to the baseline's, the calibrations' errors against the rig, two
@@ -50,10 +51,10 @@ class Effect:
     path: str = CONOPS        # flight path
     render: tuple = ()        # more aar-render render flags
     needs: tuple = ()         # aar-render render flags it needs (left out when not listed by --help)
-    mask_boom: bool = False   # also analyzed with --mask-boom
+    masks: tuple = ()         # also analyzed with these aar-analyze masks (--mask-boom, --mask-propellers)
     suffix: str = ""          # appended to the dataset's name (a dataset per set of render flags)
     dataset: Path = None      # set by run()
-    runs: dict = field(default_factory=dict)  # variant ("boards", "mask-boom", "ideal") -> run folder
+    runs: dict = field(default_factory=dict)  # variant ("boards", "masked", "ideal") -> run folder
 
 
 def render_flags(ctx):
@@ -99,14 +100,15 @@ def effect_table(ctx, flags):
         Effect("distortion", f"lens distortion: `{RIG_DISTORTED}` (Brown-Conrady, barrel)", rig=RIG_DISTORTED),
         Effect("sensor", f"sensor model: `{RIG_NOISY}` (photon transfer noise, optical blur, Bayer mosaic)",
                rig=RIG_NOISY),
-        Effect("boom", f"the refueling boom, posed by `{BOOM_PATH}`", path=BOOM_PATH, mask_boom=True),
+        Effect("boom", f"the refueling boom, posed by `{BOOM_PATH}`", path=BOOM_PATH, masks=("--mask-boom",)),
         Effect("terrain", "terrain behind the receiver (`--background terrain`)", render=("--background", "terrain")),
         Effect("motion-blur", "motion blur: a 4 ms exposure (`--shutter-ms 4`)", render=shutter, needs=SHUTTER[:1]),
         Effect("propellers", "spinning propellers, 1700 rpm, 4 ms exposure", render=PROPELLERS + shutter,
-               needs=(PROPELLERS[0], SHUTTER[0])),
+               needs=(PROPELLERS[0], SHUTTER[0]), masks=("--mask-propellers",)),
         Effect("all", "all together: lens and sensor (`rig-all.json`), boom, terrain"
                + "".join(f", `{' '.join(f)}`" for f in optional), rig=combined_rig(ctx), path=BOOM_PATH,
-               render=together, mask_boom=True, suffix="".join("-" + f[0][2:] for f in optional)),
+               render=together, masks=("--mask-boom",) + (("--mask-propellers",) if PROPELLERS in optional else ()),
+               suffix="".join("-" + f[0][2:] for f in optional)),
     ]
     used = [e for e in table if all(f in flags for f in e.needs)]
     left_out = [e for e in table if e not in used]
@@ -133,9 +135,9 @@ def measure(ctx, effect, msaa, sel, baseline_calibration):
     effect.runs["boards"] = analyze(ctx, effect.key, ds, "shelled", sel, calibration=yaml, extra=PRESET)
     effect.runs["ideal"] = analyze(ctx, f"{effect.key}-ideal", ds, "shelled", sel,
                                    calibration=ds / "calibration_ideal.yaml", extra=PRESET)
-    if effect.mask_boom:
-        effect.runs["mask-boom"] = analyze(ctx, f"{effect.key}-mask-boom", ds, "shelled", sel, calibration=yaml,
-                                           extra=PRESET + ("--mask-boom",))
+    if effect.masks:
+        effect.runs["masked"] = analyze(ctx, f"{effect.key}-masked", ds, "shelled", sel, calibration=yaml,
+                                        extra=PRESET + tuple(effect.masks))
     return cal
 
 

@@ -11,8 +11,8 @@ from .runner import ROOT, rel, selection_text
 from .thesis import COMPONENT_HEADERS, REGION_RANGES, REGIONS
 
 # Analysis variants, in table order: key in results' "variants", label.
-VARIANTS = (("boards", "calibrated"), ("mask-boom", "calibrated, `--mask-boom`"), ("ideal", "exact calibration"))
-SHORT = {"boards": "", "mask-boom": ", masked", "ideal": ", exact"}
+VARIANTS = (("boards", "calibrated"), ("masked", "calibrated, masked"), ("ideal", "exact calibration"))
+SHORT = {"boards": "", "masked": ", masked", "ideal": ", exact"}
 
 
 def ratio_to_baseline(results, key, variant, region):
@@ -86,7 +86,7 @@ def _region_section(ctx, rep, results, region):
     rep.table(["Effect", "Analysis"] + list(COMPONENT_HEADERS) + ["Frames ok/all", f"> {results['gross_deg']:g} deg"],
               rows, ["---", "---"] + ["---:"] * 8)
     series = []
-    cats = [(key, variant) for key in results["effects"] if key != "baseline" for variant in ("boards", "mask-boom")
+    cats = [(key, variant) for key in results["effects"] if key != "baseline" for variant in ("boards", "masked")
             if region in results["effects"][key]["variants"].get(variant, {})]
     for i, header in enumerate(COMPONENT_HEADERS):
         series.append((header.split(" ")[0], [ratio_to_baseline(results, k, v, region)[i] for k, v in cats]))
@@ -112,9 +112,10 @@ def write(ctx, effects, left_out, results, sel):
           "**Calibrated**: with the calibration from the 12 board pairs rendered through the effect's rig (the "
           "lens, sensor and all-together effects; the others do not change the board images and use the "
           "baseline's). **Exact calibration**: with the dataset's `calibration_ideal.yaml`, the imaging alone. "
-          "In parentheses: the ratio to the baseline's error with the same kind of calibration. The boom's "
-          "datasets are also analyzed with `--mask-boom` (boom pixels removed from the tanker's own boom angles "
-          "and the rig). All numbers are in `results.json` beside this report.")
+          "In parentheses: the ratio to the baseline's error with the same kind of calibration. **Masked**: the "
+          "boom's datasets analyzed with `--mask-boom` (boom pixels removed from the tanker's own boom angles and "
+          "the rig), the propellers' with `--mask-propellers` (points on and behind the discs dropped under the "
+          "registered pose), the all-together dataset with both. All numbers are in `results.json` beside this report.")
     _effects_section(rep, effects, left_out, results)
     _calibration_section(ctx, rep, results)
     rep.h("Pose error per region")
