@@ -72,6 +72,7 @@ struct RunFlags {
   std::optional<size_t> keep_one_in, target_points, model_queries;
   std::optional<bool> halo, subpixel, rounding, widen, balance, full_surface;
   bool truth_cloud = false, track = false, mask_boom = false, mask_propellers = false;
+  double truth_cloud_noise_px = 0.0;
   int boom_margin_px = aar::BoomMaskOptions{}.margin_px;
   std::vector<size_t> dump_frames;
 
@@ -138,6 +139,9 @@ struct RunFlags {
     cmd->add_flag("--mask-propellers", mask_propellers,
                   "drop the sensed points inside the receiver's two propeller discs under the registered pose and "
                   "register again, three times (datasets rendered with --propellers)");
+    cmd->add_option("--truth-cloud-noise", truth_cloud_noise_px,
+                    "diagnosis, with --truth-cloud: seeded Gaussian disparity noise along each ideal point's ray [px]")
+        ->capture_default_str();
     cmd->add_flag("--truth-cloud", truth_cloud,
                   "diagnosis: register the ideal cloud (depth truth at the sensed pixels; datasets with --depth)");
     cmd->add_flag(
@@ -196,6 +200,7 @@ struct RunFlags {
     if (keep_one_in) f.reprojection.keep_one_in = *keep_one_in;
     if (target_points) f.reprojection.target_points = *target_points;
     f.register_truth_cloud = truth_cloud;
+    f.truth_cloud_noise_px = truth_cloud_noise_px;
     f.track_region = track;
     f.mask_boom = mask_boom;
     f.boom_mask.margin_px = boom_margin_px;

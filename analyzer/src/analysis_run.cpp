@@ -90,6 +90,11 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
   // Absent without --mask-boom, so the runs made before it keep their run.json.
   if (f.mask_boom)
     options["boom_mask"] = {{"margin_px", f.boom_mask.margin_px}, {"source", "sidecar boom angles, rig"}};
+  // Diagnosis runs say so (absent otherwise).
+  if (f.register_truth_cloud) {
+    options["truth_cloud"] = {{"disparity_noise_px", f.truth_cloud_noise_px},
+                              {"noise_seed", "splitmix64 of the frame index, Box-Muller"}};
+  }
   // Absent without --mask-propellers, likewise.
   if (f.mask_propellers) {
     options["propeller_mask"] = {{"radial_margin_m", f.propeller_mask.radial_margin_m},

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
 
@@ -43,6 +44,19 @@ cv::Mat ReadImage(const std::filesystem::path& dataset, const FileRef& ref,
       cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), flags);
   if (image.empty()) throw Error(path.string() + ": cannot decode image");
   return image;
+}
+
+// A standard normal deviate from a splitmix64 stream (Box-Muller), the same
+// on every platform, unlike std::normal_distribution.
+double StandardNormal(uint64_t& state) {
+  const auto next = [&state] {
+    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;  // [0, 1)
+  };
+  const double u1 = 1.0 - next(), u2 = next();  // u1 in (0, 1]
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * 3.14159265358979323846 * u2);
 }
 
 }  // namespace
@@ -111,6 +125,9 @@ void FrameAnalysisOptions::Check() const {
   plane_icp.Check();
   boom_mask.Check();
   propeller_mask.Check();
+  if (!(truth_cloud_noise_px >= 0.0 && truth_cloud_noise_px <= 10.0))
+    throw Error("--truth-cloud-noise must be in [0, 10] px");
+  if (truth_cloud_noise_px > 0.0 && !register_truth_cloud) throw Error("--truth-cloud-noise needs --truth-cloud");
   if (reprojection.keep_one_in == 0) throw Error("reprojection keep_one_in must be at least 1");
   if (!(max_icp_rmse_m > 0)) throw Error("max_icp_rmse_m must be positive");
   if (!(disparity_noise_px >= 0)) throw Error("disparity_noise_px must not be negative");
@@ -236,7 +253,14 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
           CompareWithTruth(cloud.pixels, *truth, calibration_, {}, options_.register_truth_cloud ? &ideal : nullptr);
       if (options_.register_truth_cloud) {
         cloud.points_in_tanker.clear();
-        for (const Eigen::Vector3d& p : ideal) cloud.points_in_tanker.push_back(tanker_from_rect_left_ * p);
+        uint64_t state = 0x9E3779B97F4A7C15ull * (r.frame + 1);
+        for (Eigen::Vector3d p : ideal) {
+          if (options_.truth_cloud_noise_px > 0.0) {
+            const double d = focal_times_baseline_px_m_ / p.z();
+            p *= d / (d + options_.truth_cloud_noise_px * StandardNormal(state));
+          }
+          cloud.points_in_tanker.push_back(tanker_from_rect_left_ * p);
+        }
       }
     }
 

@@ -154,6 +154,27 @@ TEST(Pipeline, RegistrationOfTheIdealCloudIsExact) {
   }
 }
 
+// --truth-cloud-noise: seeded noise along the rays, recorded in run.json,
+// the same on every run, and it moves the estimate.
+TEST(Pipeline, NoisyIdealCloudIsSeededAndRecorded) {
+  ASSERT_DATASETS();
+  TempDir dir("pipeline-ideal-noise");
+  for (const char* name : {"a", "b"}) {
+    ASSERT_TRUE(
+        AnalyzeRun(SharedDatasets().near_contact, dir / name, "--model shelled --truth-cloud --truth-cloud-noise 0.3"));
+  }
+  EXPECT_EQ(test::FramesCsvWithoutTiming(dir / "a" / kFramesCsvName),
+            test::FramesCsvWithoutTiming(dir / "b" / kFramesCsvName));
+  EXPECT_EQ(ReadJsonFile(dir / "a" / kRunJsonName).at("options").at("truth_cloud").at("disparity_noise_px"), 0.3);
+  ASSERT_TRUE(AnalyzeRun(SharedDatasets().near_contact, dir / "ideal", "--model shelled --truth-cloud"));
+  const std::vector<FrameResult> noisy = ReadFrameResults(dir / "a" / kFramesCsvName);
+  const std::vector<FrameResult> ideal = ReadFrameResults(dir / "ideal" / kFramesCsvName);
+  ASSERT_EQ(noisy.size(), ideal.size());
+  size_t moved = 0;
+  for (size_t i = 0; i < noisy.size(); ++i) moved += noisy[i].estimate.translation_m != ideal[i].estimate.translation_m;
+  EXPECT_EQ(moved, noisy.size());
+}
+
 TEST(Pipeline, AnalysisIsByteIdenticalAcrossRuns) {
   ASSERT_DATASETS();
   TempDir dir("pipeline-determinism");

@@ -112,6 +112,11 @@ struct FrameAnalysisOptions {
   /// Diagnosis (datasets with --depth): register the ideal cloud, the true
   /// surface points at the sensed pixels, instead of the stereo cloud.
   bool register_truth_cloud = false;
+  /// With register_truth_cloud: zero-mean Gaussian disparity noise of this
+  /// standard deviation [px] moves each ideal point along its ray (depth
+  /// f b / (f b / z + e)), seeded by the frame index: the registration's
+  /// response to stereo noise alone, without stereo's other errors.
+  double truth_cloud_noise_px = 0.0;
   size_t min_sensed_points = 30;  ///< fewer sensed points: the frame is not measured ("receiver out of view")
   /// Registration failed (ICP did not converge onto the receiver) when its
   /// residual RMS exceeds max_icp_rmse_m + 3 sigma_z, where sigma_z =
