@@ -3,6 +3,8 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "aar/error.h"
 
@@ -132,6 +134,18 @@ LinearImage LensResampler::ResampleColor(const LinearImage& in) const {
   out.width = width_;
   out.height = height_;
   out.rgb.resize(static_cast<size_t>(width_) * height_ * 3);
+  // run[p]: how many pixels from p rightwards, p included, have p's colour
+  // (bit for bit), so that a footprint of one colour is recognised with one
+  // look per row.
+  const auto same = [&in](size_t p, size_t q) {
+    return std::memcmp(&in.rgb[p * 3], &in.rgb[q * 3], 3 * sizeof(float)) == 0;
+  };
+  std::vector<uint32_t> run(static_cast<size_t>(in.width) * in.height);
+  for (int y = 0; y < in.height; ++y) {
+    const size_t row = static_cast<size_t>(y) * in.width;
+    run[row + in.width - 1] = 1;
+    for (int x = in.width - 2; x >= 0; --x) run[row + x] = same(row + x, row + x + 1) ? run[row + x + 1] + 1 : 1;
+  }
   std::vector<double> wx, wy;
   for (size_t i = 0; i < source_x_.size(); ++i) {
     const double sx = source_x_[i], sy = source_y_[i];
@@ -140,14 +154,25 @@ LinearImage LensResampler::ResampleColor(const LinearImage& in) const {
     const int x1 = static_cast<int>(std::floor(sx + kLanczosLobes * scx));
     const int y0 = static_cast<int>(std::ceil(sy - kLanczosLobes * scy));
     const int y1 = static_cast<int>(std::floor(sy + kLanczosLobes * scy));
+    // Relative to the nearest sample, so that a uniform neighbourhood (the
+    // sky) is reproduced exactly: every tap's difference is 0, and the pixel
+    // is the nearest sample's colour, which the shortcut writes directly.
+    const size_t nearest_pixel = static_cast<size_t>(std::lround(sy)) * in.width + std::lround(sx);
+    const size_t nearest = nearest_pixel * 3;
+    bool uniform = true;
+    for (int y = y0; y <= y1 && uniform; ++y) {
+      const size_t first = static_cast<size_t>(y) * in.width + x0;
+      uniform = run[first] >= static_cast<uint32_t>(x1 - x0 + 1) && same(first, nearest_pixel);
+    }
+    if (uniform) {
+      for (int c = 0; c < 3; ++c) out.rgb[i * 3 + c] = static_cast<float>(std::max(0.0, double{in.rgb[nearest + c]}));
+      continue;
+    }
     wx.resize(static_cast<size_t>(x1 - x0 + 1));
     wy.resize(static_cast<size_t>(y1 - y0 + 1));
     double sum_x = 0.0, sum_y = 0.0;
     for (int x = x0; x <= x1; ++x) sum_x += wx[x - x0] = Lanczos((x - sx) / scx);
     for (int y = y0; y <= y1; ++y) sum_y += wy[y - y0] = Lanczos((y - sy) / scy);
-    // Relative to the nearest sample, so that a uniform neighbourhood (the
-    // sky) is reproduced exactly.
-    const size_t nearest = (static_cast<size_t>(std::lround(sy)) * in.width + std::lround(sx)) * 3;
     double acc[3] = {0.0, 0.0, 0.0};
     for (int y = y0; y <= y1; ++y) {
       const float* row = &in.rgb[static_cast<size_t>(y) * in.width * 3];
