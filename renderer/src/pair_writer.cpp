@@ -34,11 +34,15 @@ void WriteDepthTruth(const std::filesystem::path& dataset, const std::string& pr
             sidecar);
 }
 
-// The PNG of one view: its radiance as the pair's sensor records it, if it has one.
+// The PNG of one view: its radiance through its lens, if it has one, as the
+// pair's sensor records it, if it has one.
 std::string EncodeView(const RenderedPair& pair, size_t view, PngStrategy color_png) {
-  if (!pair.sensor) return EncodePng(ToSrgb8(pair.color[view]), color_png);
+  std::optional<LinearImage> resampled;
+  if (pair.lens[view] != nullptr) resampled = pair.lens[view]->ResampleColor(pair.color[view]);
+  const LinearImage& radiance = resampled ? *resampled : pair.color[view];
+  if (!pair.sensor) return EncodePng(ToSrgb8(radiance), color_png);
   const SensorExposure exposure{pair.sidecar.kind == "calib" ? 1u : 0u, pair.sidecar.index, view};
-  return EncodePng(ToSrgb8(pair.sensor->Apply(pair.color[view], exposure)), color_png);
+  return EncodePng(ToSrgb8(pair.sensor->Apply(radiance, exposure)), color_png);
 }
 
 }  // namespace

@@ -198,15 +198,12 @@ RenderedPair RenderPair(Session& session, const std::vector<std::vector<RenderIt
   for (size_t view = 0; view < pair.color.size(); ++view) {
     const std::string side = view == 0 ? "left" : "right";
     ViewTimings timings;
-    pair.color[view] =
-        session.renderer->RenderExposure(session.RenderCamera(side), session.rig.near_m, exposure, session.plan, &timings);
+    pair.color[view] = session.renderer->RenderExposure(session.RenderCamera(side), session.rig.near_m, exposure,
+                                                        session.plan, &timings);
     times.render_ms += timings.render_ms;
     times.readback_ms += timings.readback_ms;
-    if (const std::optional<LensResampler>& lens = session.Lens(side)) {
-      const auto start = std::chrono::steady_clock::now();
-      pair.color[view] = lens->ResampleColor(pair.color[view]);
-      times.readback_ms += MillisecondsSince(start);
-    }
+    // Resampled through the lens on the writer's threads, beside the next pair's rendering.
+    if (const std::optional<LensResampler>& lens = session.Lens(side)) pair.lens[view] = &*lens;
   }
   for (const std::string& side : depth_sides) pair.truth.push_back(RenderDepthTruth(session, items, side, times));
   return pair;
@@ -395,8 +392,8 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
     for (const auto& receiver_items :
          ReceiverOverExposure(receiver_models, path, i, exposure_offsets, options.propeller_rpm))
       exposure.push_back(scene_with(receiver_items));
-    const std::vector<RenderItem> items = scene_with(
-        ReceiverItems(receiver_models, tanker_from_receiver, options.propeller_rpm, path[i].time_s));
+    const std::vector<RenderItem> items =
+        scene_with(ReceiverItems(receiver_models, tanker_from_receiver, options.propeller_rpm, path[i].time_s));
     s.kind = "frame";
     s.index = i;
     s.time_s = path[i].time_s;

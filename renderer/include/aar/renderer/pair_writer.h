@@ -21,6 +21,7 @@
 
 #include "aar/dataset.h"
 #include "aar/renderer/image_encode.h"
+#include "aar/renderer/lens_distortion.h"
 #include "aar/renderer/scene_renderer.h"
 #include "aar/renderer/sensor_model.h"
 #include "aar/sensor.h"
@@ -43,12 +44,17 @@ struct RenderedPair {
   /// The rig's sensor: applied to each view (sensor_model.h) before its sRGB
   /// encoding, never to the truth; none: the rendered radiance is encoded.
   std::shared_ptr<const SensorModel> sensor;
+  /// The views' lenses (lens_distortion.h): `color` is then the pinhole
+  /// render, resampled through the lens before the sensor; null: a pinhole
+  /// camera. The render job's session owns them and outlives its writer.
+  std::array<const LensResampler*, 2> lens{};
 };
 
 /// Time spent per stage [ms], summed over the pairs written.
 struct PairWriteTimes {
-  double encode_ms = 0.0;  ///< sensor model, sRGB conversion, PNG and EXR encoding (and the truth files' writes)
-  double write_ms = 0.0;   ///< hashing and atomic writes of the colour images and sidecars
+  double encode_ms =
+      0.0;  ///< lens resampling, sensor model, sRGB conversion, PNG and EXR encoding (and the truth files' writes)
+  double write_ms = 0.0;  ///< hashing and atomic writes of the colour images and sidecars
 };
 
 struct PairWriterOptions {
@@ -61,8 +67,8 @@ struct PairWriterOptions {
   PngStrategy color_png = PngStrategy::kDefault;
 };
 
-/// Applies the sensor and encodes (the two views' PNGs at once), hashes and writes one pair into
-/// `dataset`, the images in order and the sidecar last; the worker's job.
+/// Resamples through the lens, applies the sensor and encodes (the two views' PNGs at once), hashes and writes one pair
+/// into `dataset`, the images in order and the sidecar last; the worker's job.
 void WriteRenderedPair(const std::filesystem::path& dataset, RenderedPair pair, PngStrategy color_png,
                        PairWriteTimes& times);
 

@@ -66,8 +66,9 @@ struct RenderJobOptions {
 /// sum, is the run's time.
 struct RenderStageTimes {
   double render_ms = 0.0;    ///< GPU passes (all MSAA passes of both views, truth passes)
-  double readback_ms = 0.0;  ///< copies to host memory, half-to-float, averaging, lens resampling
-  double encode_ms = 0.0;    ///< writer thread: sensor model (a rig with one), sRGB conversion, PNG (and EXR) encoding
+  double readback_ms = 0.0;  ///< copies to host memory, half-to-float, averaging, the truth's lens resampling
+  double encode_ms = 0.0;    ///< writer thread: lens resampling and sensor model (rigs with them), sRGB conversion, PNG
+                             ///< (and EXR) encoding
   double write_ms = 0.0;     ///< writer thread: hashing and atomic writes of images and sidecars
   double wait_ms = 0.0;      ///< the renderer waiting for the writer (queue full; the last pairs)
   double wall_ms = 0.0;      ///< the whole loop: resume checks, rendering, and the last pair written
