@@ -33,7 +33,7 @@ const Profile kThicknessRatio({kRootRadiusM, 0.40, kTipRadiusM}, {0.14, 0.09, 0.
 /// leading edge leads the rotation (-y at blade 0) and faces forward (+x).
 Vec3 BladePoint(double r, double phi) {
   const double beta = std::atan(kGeometricPitchM / (2.0 * std::numbers::pi * r));
-  const Vec3 chord_dir(std::sin(beta), -std::cos(beta), 0.0);      // trailing edge -> leading edge
+  const Vec3 chord_dir(std::sin(beta), -std::cos(beta), 0.0);     // trailing edge -> leading edge
   const Vec3 thickness_dir(std::cos(beta), std::sin(beta), 0.0);  // the forward (suction) face's normal
   const double c = kChord(r), t = kThicknessRatio(r) * c;
   return Vec3(0.0, 0.0, r) + 0.5 * c * std::cos(phi) * chord_dir + 0.5 * t * std::sin(phi) * thickness_dir;
@@ -83,8 +83,9 @@ void CheckPropellerHubs(const C12Airframe& airframe) {
   for (size_t i = 0; i < 2; ++i) {
     const Vec3 hub = nacelles[i]->Point(0.0, 0.0) - Vec3(kHubAftOfSpinnerTipM, 0.0, 0.0);
     if ((hub - kPropellerHubsInReceiver[i]).norm() > 5e-4) {
-      throw Error("propeller hub " + std::to_string(i) + " of common/include/aar/propeller.h is not at the nacelle's (" +
-                  std::to_string(hub.x()) + ", " + std::to_string(hub.y()) + ", " + std::to_string(hub.z()) + ")");
+      throw Error("propeller hub " + std::to_string(i) +
+                  " of common/include/aar/propeller.h is not at the nacelle's (" + std::to_string(hub.x()) + ", " +
+                  std::to_string(hub.y()) + ", " + std::to_string(hub.z()) + ")");
     }
   }
 }

@@ -68,8 +68,8 @@ void CheckTimesIncrease(const std::vector<FlightSample>& path, const std::string
 
 Eigen::Isometry3d TankerFromReceiverAt(const std::vector<FlightSample>& path, double time_s) {
   if (path.size() == 1) return IsometryFromPose(path.front().tanker_from_receiver);
-  const auto after = std::upper_bound(path.begin(), path.end(), time_s,
-                                      [](double t, const FlightSample& s) { return t < s.time_s; });
+  const auto after =
+      std::upper_bound(path.begin(), path.end(), time_s, [](double t, const FlightSample& s) { return t < s.time_s; });
   const size_t k1 = std::clamp<size_t>(static_cast<size_t>(after - path.begin()), 1, path.size() - 1);
   const FlightSample& s0 = path[k1 - 1];
   const FlightSample& s1 = path[k1];

@@ -15,8 +15,7 @@ double PropellerAngleDeg(int i, double rpm, double time_s) {
 Eigen::Isometry3d ReceiverFromPropeller(int i, double rpm, double time_s) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.translation() = kPropellerHubsInReceiver.at(static_cast<size_t>(i));
-  t.linear() = Eigen::AngleAxisd(PropellerAngleDeg(i, rpm, time_s) * std::numbers::pi / 180.0,
-                                 Eigen::Vector3d::UnitX())
+  t.linear() = Eigen::AngleAxisd(PropellerAngleDeg(i, rpm, time_s) * std::numbers::pi / 180.0, Eigen::Vector3d::UnitX())
                    .toRotationMatrix();
   return t;
 }

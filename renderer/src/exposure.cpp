@@ -17,8 +17,8 @@ std::vector<RenderItem> ReceiverItems(const ReceiverModels& models, const Eigen:
   std::vector<RenderItem> items = {{models.airframe, tanker_from_receiver, models.object_id}};
   if (models.propeller >= 0) {
     for (int i = 0; i < static_cast<int>(kPropellerHubsInReceiver.size()); ++i) {
-      items.push_back({models.propeller, tanker_from_receiver * ReceiverFromPropeller(i, propeller_rpm, time_s),
-                       models.object_id});
+      items.push_back(
+          {models.propeller, tanker_from_receiver * ReceiverFromPropeller(i, propeller_rpm, time_s), models.object_id});
     }
   }
   return items;
@@ -42,8 +42,9 @@ nlohmann::json ExposureJson(double shutter_ms, int time_samples) {
   return {{"shutter_ms", shutter_ms},
           {"time_samples", time_samples},
           {"instants", "sample time + shutter * ((k + 0.5) / time_samples - 0.5), k = 0 .. time_samples - 1"},
-          {"moving", "the receiver (between the path's samples: position linear, attitude slerp) and its propellers; "
-                     "the tanker and the boom are held"},
+          {"moving",
+           "the receiver (between the path's samples: position linear, attitude slerp) and its propellers; "
+           "the tanker and the boom are held"},
           {"truth", "depth, ids and the sidecar's pose are the sample time's (mid-exposure)"}};
 }
 

@@ -18,7 +18,7 @@ inline constexpr double kPropellerDiameterM = 2.5;  ///< tip circle
 /// nacelle's axis, 0.30 m aft of its spinner tip. scenes/c12.cpp's nacelle
 /// geometry gives them; aar-make-scenes refuses to run if they disagree.
 inline const std::array<Eigen::Vector3d, 2> kPropellerHubsInReceiver = {
-    Eigen::Vector3d(1.9000, 2.6000, -0.1725),  // left engine (+y)
+    Eigen::Vector3d(1.9000, 2.6000, -0.1725),   // left engine (+y)
     Eigen::Vector3d(1.9000, -2.6000, -0.1725),  // right engine
 };
 /// Blade angle of each propeller at time 0 [deg]: the two engines are not
