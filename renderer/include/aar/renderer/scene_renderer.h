@@ -6,6 +6,7 @@
 // projection.h and msaa.h.
 
 #include <Eigen/Geometry>
+#include <glm/vec4.hpp>
 #include <map>
 #include <memory>
 #include <string>
@@ -95,7 +96,13 @@ class SceneRenderer {
   struct GpuModel;
   void UploadTexture(const TextureMips& mips);
   Target& TargetFor(int samples, bool ground_truth);
-  struct BackgroundPush;
+  /// The push-constant block of shaders/background.frag, member for member.
+  struct BackgroundPush {
+    glm::vec4 level_from_pixel_rows[3];  // xyz: rows; w: camera level x, y [m], height above the ground [m]
+    glm::vec4 sun_in_level;              // xyz; w: sea-level haze extinction [1/m]
+    glm::vec4 surface;      // sin^2 dip, h (2R + h) / (R + h) [m], surface height [m], haze scale height [m]
+    glm::vec4 texture_map;  // 1 / tile size [1/m], 0, 0, kind (1 sky, 2 terrain, 3 clouds)
+  };
   BackgroundPush BackgroundFor(const Camera& camera) const;
   /// The camera's background, linear RGB of the whole frame: rendered the
   /// first time, then the same pixels from the cache.
