@@ -66,7 +66,7 @@ struct RunFlags {
   ReferenceFlags reference;
   std::string preset = "default";
   std::string calibration, receiver, frames, shard, disparity = "bm";
-  std::optional<std::string> seed, registration, correspondence, pairing;
+  std::optional<std::string> seed, registration, correspondence, pairing, residual;
   std::optional<int> icp_iterations, num_disparities, block_size;
   std::optional<double> max_correspondence_m, disparity_offset_px, disparity_noise_px, gate_sigmas, model_pull_scale_m;
   std::optional<size_t> keep_one_in, target_points, model_queries;
@@ -100,6 +100,10 @@ struct RunFlags {
                     "point-to-plane pairing: mahalanobis (default: each sensed point with the camera-facing model "
                     "point nearest in the stereo noise metric), symmetric (nearest in metres, plus model-to-sensed "
                     "pairs), or sensed_to_model");
+    cmd->add_option("--residual", residual,
+                    "point-to-plane residual of a sensed point: metric (default: its distance to the model's tangent "
+                    "plane in metres) or disparity (along its own ray, in disparity: the model's predicted minus the "
+                    "measured)");
     cmd->add_option("--full-surface", full_surface,
                     "point-to-plane with the shelled model: pair sensed points with the full model's surface");
     cmd->add_option("--balance", balance, "symmetric pairing: weigh both directions equally in total (default: false)");
@@ -177,6 +181,7 @@ struct RunFlags {
     if (registration) f.registration = aar::ParseRegistration(*registration);
     if (correspondence) f.icp.correspondence = aar::ParseIcpCorrespondence(*correspondence);
     if (pairing) f.plane_icp.pairing = aar::ParsePlanePairing(*pairing);
+    if (residual) f.plane_icp.residual = aar::ParsePlaneResidual(*residual);
     if (icp_iterations) f.icp.max_iterations = f.plane_icp.max_iterations = *icp_iterations;
     if (max_correspondence_m)
       f.icp.max_correspondence_distance_m = f.plane_icp.max_correspondence_distance_m = *max_correspondence_m;
@@ -270,6 +275,8 @@ int RunCalibrate(int argc, char** argv) {
   app.add_flag(
       "--estimate-distortion", [&](int64_t) { distortion = "brown-conrady-k3"; },
       "the same as --distortion brown-conrady-k3 (all five coefficients, OpenCV's default)");
+  app.add_flag("--same-focal-length", options.same_focal_length,
+               "one focal length for both cameras (a matched pair; OpenCV's CALIB_SAME_FOCAL_LENGTH)");
   if (const auto code = Parse(app, argc, argv)) return *code;
   options.distortion = aar::ParseDistortionModel(distortion);
   if (out.empty()) out = std::filesystem::path("results") / (DatasetName(dataset) + "-calibration");

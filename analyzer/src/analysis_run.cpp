@@ -44,6 +44,7 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
     const PlaneIcpOptions& p = f.plane_icp;
     registration.update({{"max_iterations", p.max_iterations},
                          {"pairing", ToString(p.pairing)},
+                         {"residual", ToString(p.residual)},
                          {"converged_chi2", p.converged_chi2},
                          {"sensed_pairing_surface", f.pair_sensed_with_full_surface ? "full" : "model"},
                          {"model_pull_scale_m", p.model_pull_scale_m},
@@ -221,6 +222,7 @@ CalibrateOutput CalibrateDataset(const std::filesystem::path& dataset, const Cal
                 {"corner_count", r.corner_count},
                 {"used_pairs", r.used_pairs},
                 {"board_depth_m", {r.board_depth_min_m, r.board_depth_max_m}},
+                {"same_focal_length", options.same_focal_length},
                 {"pairs", pairs},
                 {"Q", MatJson(r.calibration.Q)}};
   if (r.distortion_estimated) {

@@ -269,6 +269,7 @@ CalibrationResult CalibrateFromDetections(std::vector<PairDetection> pairs, cv::
 
   // Zhang's method per camera, then the stereo refinement (thesis 3.3).
   int flags = 0;
+  result.same_focal_length = options.same_focal_length;
   result.distortion_estimated =
       options.distortion == DistortionModel::kBrownConrady || options.distortion == DistortionModel::kBrownConradyK3;
   if (!result.distortion_estimated)
@@ -288,7 +289,8 @@ CalibrationResult CalibrateFromDetections(std::vector<PairDetection> pairs, cv::
     c.D1 = FirstFive(d1);
     c.D2 = FirstFive(d2);
     const int stereo_flags =
-        flags | (options.refine_intrinsics_in_stereo ? cv::CALIB_USE_INTRINSIC_GUESS : cv::CALIB_FIX_INTRINSIC);
+        flags | (options.refine_intrinsics_in_stereo ? cv::CALIB_USE_INTRINSIC_GUESS : cv::CALIB_FIX_INTRINSIC) |
+        (options.same_focal_length ? cv::CALIB_SAME_FOCAL_LENGTH : 0);
     result.rms_reprojection_px = cv::stereoCalibrate(object_points, left_points, right_points, c.M1, c.D1, c.M2, c.D2,
                                                      image_size, c.R, c.T, result.E, result.F, stereo_flags, criteria);
     c.D1 = FirstFive(c.D1);
@@ -441,12 +443,14 @@ std::string CalibrationResult::BriefReport() const {
   }
   out << "  focal " << FormatFixed(calibration.Q.at<double>(2, 3), 3) << " px, baseline "
       << FormatFixed(cv::norm(calibration.T), 6) << " m (z component "
-      << FormatFixed(1e3 * calibration.T.at<double>(2), 2) << " mm)\n";
+      << FormatFixed(1e3 * calibration.T.at<double>(2), 2) << " mm)"
+      << (same_focal_length ? ", one focal length for both cameras" : "") << "\n";
   out << "  boards " << FormatFixed(board_depth_min_m, 1) << "-" << FormatFixed(board_depth_max_m, 1)
       << " m from the left camera";
-  if (board_depth_max_m < 1.5 * board_depth_min_m) {
+  if (board_depth_max_m < 1.5 * board_depth_min_m && !same_focal_length) {
     out << ": at one depth the baseline's z component and the focal-length ratio are hard to tell apart (boards at "
-           "other distances separate them: aar-render calib --far-boards)";
+           "other distances separate them: aar-render calib --far-boards; for a matched pair, "
+           "aar-analyze calibrate --same-focal-length)";
   }
   out << "\n";
   if (versus_ideal) {

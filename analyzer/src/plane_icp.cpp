@@ -20,20 +20,25 @@ struct SensedNoise {
   double ray_variance;      // sigma_ray^2 [m^2]
   double lateral_variance;  // sigma_lat^2 [m^2]
   double gate_squared;      // pairs farther than sqrt(this) are ignored [m^2]
+  double disparity;         // the disparity the point was re-projected from, f b / depth [px]
 };
+
+// The noise model at `point` (tanker frame), seen from the left camera.
+SensedNoise NoiseAt(const Eigen::Vector3d& point, const StereoNoiseGeometry& g, const PlaneIcpOptions& o) {
+  const Eigen::Vector3d offset = point - g.camera_centre_in_tanker;
+  const double distance = offset.norm();
+  const double depth = std::max(offset.dot(g.optical_axis_in_tanker), 1e-3);
+  const double sigma_ray = depth * distance * o.disparity_noise_px / g.focal_times_baseline_px_m;
+  const double sigma_lat = depth * o.lateral_noise_px / g.focal_px;
+  const double gate = std::max(o.max_correspondence_distance_m, o.gate_sigmas * sigma_ray);
+  return {offset / distance, sigma_ray * sigma_ray, sigma_lat * sigma_lat, gate * gate,
+          g.focal_times_baseline_px_m / depth};
+}
 
 std::vector<SensedNoise> NoiseOf(const std::vector<Eigen::Vector3d>& sensed, const StereoNoiseGeometry& g,
                                  const PlaneIcpOptions& o) {
   std::vector<SensedNoise> noise(sensed.size());
-  for (size_t i = 0; i < sensed.size(); ++i) {
-    const Eigen::Vector3d offset = sensed[i] - g.camera_centre_in_tanker;
-    const double distance = offset.norm();
-    const double depth = std::max(offset.dot(g.optical_axis_in_tanker), 1e-3);
-    const double sigma_ray = depth * distance * o.disparity_noise_px / g.focal_times_baseline_px_m;
-    const double sigma_lat = depth * o.lateral_noise_px / g.focal_px;
-    const double gate = std::max(o.max_correspondence_distance_m, o.gate_sigmas * sigma_ray);
-    noise[i] = {offset / distance, sigma_ray * sigma_ray, sigma_lat * sigma_lat, gate * gate};
-  }
+  for (size_t i = 0; i < sensed.size(); ++i) noise[i] = NoiseAt(sensed[i], g, o);
   return noise;
 }
 
@@ -45,8 +50,11 @@ struct NormalEquations {
   // Residual r = n . (p - s) of a model point p (tanker frame, normal n) and a
   // sensed point s; Jacobian [ (s - centre) x n, n ] for the perturbation
   // p -> centre + (I + [w]x)(p - centre) + v (normal rotated with it).
+  // `lever`: the point the rotation turns the residual about (s: the exact
+  // Jacobian; the model point p: free of the sensed point's noise).
   void Add(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eigen::Vector3d& s, const SensedNoise& noise,
-           const Eigen::Vector3d& centre, const PlaneIcpOptions& o, double weight, double& sum_squared) {
+           const Eigen::Vector3d& centre, const PlaneIcpOptions& o, double weight, double& sum_squared,
+           const Eigen::Vector3d& lever) {
     const double r = n.dot(p - s);
     const double along = n.dot(noise.ray);
     const double variance = o.surface_noise_m * o.surface_noise_m + along * along * noise.ray_variance +
@@ -54,7 +62,7 @@ struct NormalEquations {
     const double scaled = r * r / (o.robust_scale * o.robust_scale * variance);
     const double w = weight / (variance * (1.0 + scaled));  // Cauchy
     Eigen::Matrix<double, 6, 1> j;
-    j.head<3>() = (s - centre).cross(n);
+    j.head<3>() = (lever - centre).cross(n);
     j.tail<3>() = n;
     // The upper triangle only (h is symmetric; Solve mirrors it), each term
     // (w j_a) j_b as the full outer product would form it.
@@ -64,6 +72,55 @@ struct NormalEquations {
     }
     g.noalias() += w * r * j;
     sum_squared += r * r;
+  }
+
+  // kDisparity: the residual along the sensed point's own ray. The model's
+  // tangent plane (p, n) meets the ray c + t u at t = n . (p - c) / (n . u),
+  // x = c + t u, where the model predicts the disparity D = f b / (t (u . a))
+  // (a the optical axis; the rectified one differs by the rectification's
+  // turn, well under a degree, which scales D and d alike by under 1e-4);
+  // r = D - d with d = f b / (s - c) . a the measured disparity.
+  // dt = [ (x - centre) x n, n ] . (w, v) / (n . u), so the lever arm is x,
+  // on the model's surface, not the noisy s (no errors in the variables),
+  // and r, unlike a distance in metres, has the measurement's own symmetric
+  // noise: sigma_r^2 = sigma_d^2 + (D / t)^2 (sigma_0^2 + (1 - (n.u)^2)
+  // sigma_lat^2) / (n.u)^2, every term from the model's depth, none from the
+  // noisy one. Where the plane is so oblique to the ray that the lateral and
+  // surface terms outweigh the depth noise's, (n.u)^2 sigma_ray^2 < sigma_0^2
+  // + (1 - (n.u)^2) sigma_lat^2, the depth noise hardly enters the metric
+  // residual, whose meeting point would instead swing far along the ray with
+  // any lateral error: false, and the caller adds the metric residual.
+  bool AddDisparity(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eigen::Vector3d& s,
+                    const SensedNoise& noise, const StereoNoiseGeometry& geometry, const Eigen::Vector3d& centre,
+                    const PlaneIcpOptions& o, double weight, double& sum_squared) {
+    const double nu = n.dot(noise.ray);
+    if (!(nu < 0.0)) return false;
+    const double t = n.dot(p - geometry.camera_centre_in_tanker) / nu;
+    const double cos_axis = noise.ray.dot(geometry.optical_axis_in_tanker);
+    if (!(t > 0.0) || !(cos_axis > 0.0)) return false;
+    const double predicted = geometry.focal_times_baseline_px_m / (t * cos_axis);
+    const double per_metre = predicted / t;  // |dD / dt| [px / m]
+    const double lateral = t * cos_axis * o.lateral_noise_px / geometry.focal_px;
+    const double ray_sigma = o.disparity_noise_px / per_metre;  // sigma_ray at the model's depth [m]
+    const double across = o.surface_noise_m * o.surface_noise_m + (1.0 - nu * nu) * lateral * lateral;  // [m^2]
+    if (nu * nu * ray_sigma * ray_sigma < across) return false;
+    const Eigen::Vector3d x = geometry.camera_centre_in_tanker + t * noise.ray;
+    const double r = predicted - noise.disparity;
+    const double variance = o.disparity_noise_px * o.disparity_noise_px + per_metre * per_metre * across / (nu * nu);
+    const double scaled = r * r / (o.robust_scale * o.robust_scale * variance);
+    const double w = weight / (variance * (1.0 + scaled));  // Cauchy
+    Eigen::Matrix<double, 6, 1> j;
+    j.head<3>() = (x - centre).cross(n);
+    j.tail<3>() = n;
+    j *= -per_metre / nu;
+    const Eigen::Matrix<double, 6, 1> wj = w * j;
+    for (int b = 0; b < 6; ++b) {
+      for (int a = 0; a <= b; ++a) h(a, b) += wj(a) * j(b);
+    }
+    g.noalias() += w * r * j;
+    const double metric = n.dot(p - s);
+    sum_squared += metric * metric;
+    return true;
   }
 
   Eigen::Matrix<double, 6, 1> Solve() {
@@ -143,6 +200,14 @@ std::string ToString(PlanePairing pairing) {
       return "mahalanobis";
   }
   return "unknown";
+}
+
+std::string ToString(PlaneResidual residual) { return residual == PlaneResidual::kDisparity ? "disparity" : "metric"; }
+
+PlaneResidual ParsePlaneResidual(const std::string& text) {
+  if (text == "metric") return PlaneResidual::kMetric;
+  if (text == "disparity") return PlaneResidual::kDisparity;
+  throw Error("point-to-plane residual '" + text + "': expected metric or disparity");
 }
 
 PlanePairing ParsePlanePairing(const std::string& text) {
@@ -297,8 +362,16 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
         if (j == CachedNearest::kNone) continue;
       }
       if (squared > noise[i].gate_squared) continue;
-      equations.Add(tanker_from_receiver * surface[j], rotation * surface_normals[j], sensed[i], noise[i], centre, o,
-                    static_cast<double>(coarse), sum_squared);
+      const Eigen::Vector3d p = tanker_from_receiver * surface[j];
+      const Eigen::Vector3d n = rotation * surface_normals[j];
+      if (o.residual == PlaneResidual::kMetric) {
+        equations.Add(p, n, sensed[i], noise[i], centre, o, static_cast<double>(coarse), sum_squared, sensed[i]);
+      } else if (!equations.AddDisparity(p, n, sensed[i], noise[i], geometry_, centre, o, static_cast<double>(coarse),
+                                         sum_squared)) {
+        // Oblique to the ray: the metric residual, its noise and lever arm from the model point.
+        equations.Add(p, n, sensed[i], NoiseAt(p, geometry_, o), centre, o, static_cast<double>(coarse), sum_squared,
+                      p);
+      }
       ++inliers;
     }
     inliers *= coarse;
@@ -320,7 +393,7 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
                 ? noise[i].ray_variance / (noise[i].ray_variance + o.model_pull_scale_m * o.model_pull_scale_m)
                 : 1.0;
         equations.Add(p, rotation * normals_[j], sensed[i], noise[i], centre, o,
-                      pull * balance * static_cast<double>(stride), unused);
+                      pull * balance * static_cast<double>(stride), unused, sensed[i]);
       }
     }
     const double rmse =

@@ -281,6 +281,29 @@ TEST(Calibration, EstimatingDistortionStillRecoversTheRig) {
   EXPECT_LT(r.epipolar_error_px, 0.05);
 }
 
+TEST(Calibration, SameFocalLengthGivesBothCamerasOneAndSaysSo) {
+  // The synthetic rig's cameras share one focal length; with the constraint
+  // stereoCalibrate keeps fx and fy equal across the pair, the baseline's
+  // direction stays within the unconstrained fit's bound, and the report
+  // names the constraint instead of the one-depth warning.
+  CalibrationOptions options;
+  options.same_focal_length = true;
+  std::vector<PairDetection> detections = SyntheticCalibration().pairs;  // same corners, no re-detection
+  const CalibrationResult r =
+      CalibrateFromDetections(detections, cv::Size(1024, 768), options, IdealCalibration(Synthetic().rig), "images");
+  const StereoCalibration& c = r.calibration;
+  EXPECT_EQ(c.M1.at<double>(0, 0), c.M2.at<double>(0, 0));
+  EXPECT_EQ(c.M1.at<double>(1, 1), c.M2.at<double>(1, 1));
+  EXPECT_NE(SyntheticCalibration().calibration.M1.at<double>(0, 0),
+            SyntheticCalibration().calibration.M2.at<double>(0, 0));  // free: they differ
+  ASSERT_TRUE(r.versus_ideal.has_value());
+  EXPECT_LT(std::abs(r.versus_ideal->focal_error_percent), 0.5);
+  EXPECT_LT(r.versus_ideal->baseline_direction_error_deg, 0.5);
+  EXPECT_TRUE(r.same_focal_length);
+  EXPECT_NE(r.BriefReport().find("one focal length for both cameras"), std::string::npos);
+  EXPECT_EQ(r.BriefReport().find("hard to tell apart"), std::string::npos);
+}
+
 TEST(Calibration, ReportsTheBoardDepthRangeOfItsViews) {
   const CalibrationResult& r = SyntheticCalibration();
   const BoardSpec board;

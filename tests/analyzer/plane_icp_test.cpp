@@ -155,15 +155,26 @@ TEST(PlaneIcp, MahalanobisPairingConvergesOnTheSurfacesFacingTheCameras) {
   Eigen::Isometry3d initial = TruePose();
   initial.translation() += Eigen::Vector3d(0.3, -0.3, 0.3);
   initial.linear() = Eigen::AngleAxisd(3.0 * M_PI / 180.0, Eigen::Vector3d(1, 1, 1).normalized()) * initial.linear();
-  PlaneIcpOptions options;
-  options.pairing = PlanePairing::kMahalanobis;
-  const PlaneIcpRegistration icp(model.points_in_receiver, model.normals_in_receiver, geometry, options);
-  const PlaneIcpResult result = icp.Register(sensed, initial);
-  EXPECT_TRUE(result.converged);
-  EXPECT_LE(result.iterations, 40);
-  const Eigen::Isometry3d error = TruePose().inverse() * result.tanker_from_receiver;
-  EXPECT_LT(error.translation().norm(), 0.02);
-  EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI, 0.1);
+  for (const PlaneResidual residual : {PlaneResidual::kMetric, PlaneResidual::kDisparity}) {
+    SCOPED_TRACE(ToString(residual));
+    PlaneIcpOptions options;
+    options.pairing = PlanePairing::kMahalanobis;
+    options.residual = residual;
+    const PlaneIcpRegistration icp(model.points_in_receiver, model.normals_in_receiver, geometry, options);
+    const PlaneIcpResult result = icp.Register(sensed, initial);
+    EXPECT_TRUE(result.converged);
+    EXPECT_LE(result.iterations, 40);
+    const Eigen::Isometry3d error = TruePose().inverse() * result.tanker_from_receiver;
+    EXPECT_LT(error.translation().norm(), 0.02);
+    EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI, 0.1);
+  }
+}
+
+TEST(PlaneIcp, ResidualNames) {
+  EXPECT_EQ(ParsePlaneResidual("disparity"), PlaneResidual::kDisparity);
+  EXPECT_EQ(ParsePlaneResidual("metric"), PlaneResidual::kMetric);
+  EXPECT_EQ(ToString(PlaneResidual::kDisparity), "disparity");
+  EXPECT_THROW(ParsePlaneResidual("pixels"), Error);
 }
 
 TEST(PlaneIcp, RejectsModelsWithoutNormalsAndEmptyClouds) {

@@ -59,8 +59,12 @@ struct CalibrationOptions {
   DistortionModel distortion = DistortionModel::kAuto;  ///< lens model (see DistortionModel)
   bool refine_intrinsics_in_stereo = true;  ///< true: CALIB_USE_INTRINSIC_GUESS (stereoCalibrate refines both cameras
                                             ///< jointly with R, T); false: CALIB_FIX_INTRINSIC (only R, T)
-  int max_iterations = 100;                 ///< Levenberg-Marquardt iterations (calibrateCamera and stereoCalibrate)
-  double epsilon = 1e-12;                   ///< Levenberg-Marquardt relative change to stop
+  /// true: CALIB_SAME_FOCAL_LENGTH in stereoCalibrate (one fx and one fy for
+  /// both cameras; a matched pair). Boards at one depth cannot tell the
+  /// focal-length ratio from the baseline's component along the optical axis.
+  bool same_focal_length = false;
+  int max_iterations = 100;     ///< Levenberg-Marquardt iterations (calibrateCamera and stereoCalibrate)
+  double epsilon = 1e-12;       ///< Levenberg-Marquardt relative change to stop
   double rectify_alpha = -1.0;  ///< stereoRectify alpha: -1 = OpenCV's default scaling (f' = mean fy, no zoom), so
                                 ///< Q is directly comparable with the ideal Q; 0..1 zooms to crop or keep all pixels
 
@@ -143,6 +147,7 @@ struct CalibrationResult {
   /// T_z turns the re-projected scene by about T_z / b about the camera's
   /// vertical axis (docs/analysis.md, step 1).
   double board_depth_min_m = 0.0, board_depth_max_m = 0.0;
+  bool same_focal_length = false;               ///< CalibrationOptions::same_focal_length was set
   std::vector<PairDetection> pairs;             ///< every pair given, in order, with status
   std::optional<IdealComparison> versus_ideal;  ///< when an ideal calibration was given / found
 

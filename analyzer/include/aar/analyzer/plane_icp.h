@@ -64,6 +64,19 @@ enum class PlanePairing {
   /// point, not the nearest in metres (see PlaneIcpRegistration::Register).
   kMahalanobis,
 };
+/// What a sensed-to-model pair's residual measures (model-to-sensed pairs are always kMetric).
+enum class PlaneResidual {
+  /// n . (p - s) in metres, variance from the sensed point's depth.
+  kMetric,
+  /// Along the sensed point's own ray, in disparity: the model's tangent plane
+  /// predicts the disparity where the ray meets it, minus the measured one;
+  /// the rotation's lever arm is that meeting point (see AddDisparity in plane_icp.cpp).
+  kDisparity,
+};
+/// "metric" / "disparity"; the parser throws aar::Error on other text.
+std::string ToString(PlaneResidual residual);
+PlaneResidual ParsePlaneResidual(const std::string& text);
+
 /// "sensed_to_model" / "symmetric" / "mahalanobis"; the parser throws aar::Error on other text.
 std::string ToString(PlanePairing pairing);
 PlanePairing ParsePlanePairing(const std::string& text);
@@ -79,6 +92,7 @@ struct PlaneIcpOptions {
   /// pixels) it is 3-14x closer to the truth than kSymmetric in regions A and
   /// B (docs/performance.md, "Pairing in the stereo noise metric").
   PlanePairing pairing = PlanePairing::kMahalanobis;
+  PlaneResidual residual = PlaneResidual::kMetric;
   /// kMahalanobis: also converged when a step's squared length under the
   /// estimate's own information matrix (the Gauss-Newton H, weighted by
   /// 1 / sigma^2) is below this, i.e. the step is under sqrt(0.1) = 0.32
