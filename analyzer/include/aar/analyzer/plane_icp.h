@@ -43,6 +43,10 @@
 // tolerances (kMahalanobis also: when the step is small against the
 // estimate's own uncertainty, converged_chi2).
 //
+// The residual above is in metres (kMetric); kDisparity measures each sensed
+// point along its own ray instead, in disparity, with the lever arm and the
+// variances taken from the model (PlaneResidual; docs/analysis.md item 8).
+//
 // Single-threaded, fixed summation order: bitwise repeatable.
 
 #include <Eigen/Geometry>
