@@ -66,8 +66,9 @@ struct RunFlags {
   ReferenceFlags reference;
   std::string preset = "default";
   std::string calibration, receiver, frames, shard, disparity = "bm";
+  std::optional<std::string> subpixel_window;
   std::optional<std::string> seed, registration, correspondence, pairing, residual;
-  std::optional<int> icp_iterations, num_disparities, block_size;
+  std::optional<int> icp_iterations, num_disparities, block_size, halo_radius;
   std::optional<double> max_correspondence_m, disparity_offset_px, disparity_noise_px, gate_sigmas, model_pull_scale_m;
   std::optional<size_t> keep_one_in, target_points, model_queries;
   std::optional<bool> halo, subpixel, rounding, widen, balance, full_surface;
@@ -125,8 +126,13 @@ struct RunFlags {
     cmd->add_option("--num-disparities", num_disparities, "disparities searched (48)");
     cmd->add_option("--block-size", block_size, "matching block size [px] (9)");
     cmd->add_option("--halo", halo, "remove the block-matching halo around the silhouette (default preset: true)");
+    cmd->add_option("--halo-radius", halo_radius,
+                    "halo removal: valid pixels this close to an invalid pixel or a jump go [px] (block / 2 + 1)");
     cmd->add_option("--rounding", rounding, "subtract StereoBM's 15/512 px rounding bias (default preset: true)");
-    cmd->add_option("--subpixel", subpixel, "symmetric sub-pixel refinement (default: false)");
+    cmd->add_option("--subpixel", subpixel,
+                    "symmetric sub-pixel refinement of every kept disparity (default preset: true, thesis: false)");
+    cmd->add_option("--subpixel-window", subpixel_window,
+                    "sub-pixel window: slanted (default: follows the surface's disparity slope) or flat (one shift)");
     cmd->add_option("--widen-search", widen, "match near frames again with a wider disparity search (default: true)");
     cmd->add_option("--disparity-offset", disparity_offset_px, "also subtracted from every disparity [px] (0)");
     cmd->add_option("--disparity-noise", disparity_noise_px, "disparity noise of the ICP noise model [px] (0.1)");
@@ -192,8 +198,15 @@ struct RunFlags {
       f.subpixel.half_window_px = *block_size / 2;
     }
     if (halo) f.remove_halo = *halo;
+    if (halo_radius) f.halo.radius_px = *halo_radius;
     if (rounding) f.remove_rounding_bias = *rounding;
     if (subpixel) f.refine_subpixel = *subpixel;
+    if (subpixel_window) {
+      if (*subpixel_window != "slanted" && *subpixel_window != "flat") {
+        throw aar::Error("--subpixel-window '" + *subpixel_window + "': expected slanted or flat");
+      }
+      f.subpixel.slanted = *subpixel_window == "slanted";
+    }
     if (widen) f.widen_disparity_search = *widen;
     if (balance) f.plane_icp.balance_directions = *balance;
     if (gate_sigmas) f.plane_icp.gate_sigmas = *gate_sigmas;

@@ -68,7 +68,7 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
         {"background_disparity_px", f.disparity.background_disparity_px},
         {"halo_radius_px", f.remove_halo ? f.halo.radius_px : 0},
         {"rounding_bias_px", f.remove_rounding_bias ? MatcherRoundingBiasPx(f.disparity.algorithm) : 0.0},
-        {"subpixel", f.refine_subpixel ? "symmetric" : "none"},
+        {"subpixel", f.refine_subpixel ? (f.subpixel.slanted ? "slanted" : "symmetric") : "none"},
         {"widen_search", f.widen_disparity_search}}},
       {"reprojection",
        {{"max_depth_m", f.reprojection.max_depth_m},

@@ -66,10 +66,11 @@ struct FrameAnalysisOptions {
   /// Subtract MatcherRoundingBiasPx(algorithm) (StereoBM: 15/512 px) from
   /// every disparity, on top of reprojection.disparity_offset_px.
   bool remove_rounding_bias = true;
-  /// Symmetric sub-pixel refinement (subpixel.h). Off by default: on CONOPS
-  /// region C it lowers the disparity RMS (0.122 -> 0.099 px) but not the
-  /// pixel locking, and the registration is worse with it (docs/analysis.md).
-  bool refine_subpixel = false;
+  /// Symmetric sub-pixel refinement of every kept disparity (subpixel.h),
+  /// with slanted windows by default (subpixel.slanted): it removes the
+  /// disparity error that grows with the surface's slope, which tilted the
+  /// registered receiver (docs/analysis.md item 5). The thesis preset: off.
+  bool refine_subpixel = true;
   SubpixelOptions subpixel;
   /// Re-projection: <= 750 m and <= 1.5 times the cloud's median depth;
   /// about 4000 points (one in eight or more).

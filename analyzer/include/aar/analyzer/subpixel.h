@@ -23,12 +23,18 @@ namespace aar {
 
 struct SubpixelOptions {
   int half_window_px = 4;          ///< window (2h+1)^2; 4 = the 9x9 block of the thesis's matcher [px]
-  int max_iterations = 4;          ///< Gauss-Newton steps at most
+  int max_iterations = 4;          ///< Gauss-Newton steps at most (slanted windows: twice this)
   double tolerance_px = 0.002;     ///< stop when a step is smaller [px]
   double max_correction_px = 1.0;  ///< |delta - start| larger than this: refinement rejected [px]
   /// Summed squared horizontal gradient over the window below which the
   /// window has too little texture to refine [grey levels^2 / px^2].
   double min_gradient_energy = 100.0;
+  /// Slanted window: also solve for the disparity's change per column and per
+  /// row (see above); false: one shift for the whole window.
+  bool slanted = true;
+  /// Slanted window: |dd/du| and |dd/dv| above this reject the refinement (a
+  /// surface that steep is seen edge-on) [px / px].
+  double max_slope = 0.5;
 
   /// Throws aar::Error naming the first invalid field.
   void Check() const;
@@ -38,6 +44,8 @@ struct SubpixelOptions {
 struct RefinedDisparity {
   double u_px = 0.0;          ///< left column (rectified) of the point [px]
   double disparity_px = 0.0;  ///< refined disparity [px]
+  double slope_u = 0.0;       ///< slanted window: d disparity / d column (0 otherwise)
+  double slope_v = 0.0;       ///< slanted window: d disparity / d row (0 otherwise)
   int iterations = 0;
 };
 
