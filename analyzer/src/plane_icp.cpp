@@ -64,13 +64,7 @@ struct NormalEquations {
     Eigen::Matrix<double, 6, 1> j;
     j.head<3>() = (lever - centre).cross(n);
     j.tail<3>() = n;
-    // The upper triangle only (h is symmetric; Solve mirrors it), each term
-    // (w j_a) j_b as the full outer product would form it.
-    const Eigen::Matrix<double, 6, 1> wj = w * j;
-    for (int b = 0; b < 6; ++b) {
-      for (int a = 0; a <= b; ++a) h(a, b) += wj(a) * j(b);
-    }
-    g.noalias() += w * r * j;
+    Accumulate(j, w, r);
     sum_squared += r * r;
   }
 
@@ -113,14 +107,21 @@ struct NormalEquations {
     j.head<3>() = (x - centre).cross(n);
     j.tail<3>() = n;
     j *= -per_metre / nu;
+    Accumulate(j, w, r);
+    const double metric = n.dot(p - s);
+    sum_squared += metric * metric;
+    return true;
+  }
+
+  // One residual r with Jacobian j and weight w. The upper triangle of h only
+  // (h is symmetric; Solve mirrors it), each term (w j_a) j_b as the full
+  // outer product would form it.
+  void Accumulate(const Eigen::Matrix<double, 6, 1>& j, double w, double r) {
     const Eigen::Matrix<double, 6, 1> wj = w * j;
     for (int b = 0; b < 6; ++b) {
       for (int a = 0; a <= b; ++a) h(a, b) += wj(a) * j(b);
     }
     g.noalias() += w * r * j;
-    const double metric = n.dot(p - s);
-    sum_squared += metric * metric;
-    return true;
   }
 
   Eigen::Matrix<double, 6, 1> Solve() {

@@ -3,7 +3,6 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
-#include <vector>
 
 #include "aar/error.h"
 
@@ -62,7 +61,6 @@ std::optional<RefinedDisparity> SubpixelRefiner::Refine(int u_image, int v_image
   // (row, column offsets) is shifted by delta + a j + b i. One Gauss-Newton
   // step solves the zero-mean normal equations (the windows' brightness
   // offset is not a disparity) for all of them.
-  const int parameters = options_.slanted ? 3 : 1;
   Eigen::Vector3d p(start, 0.0, 0.0);
   RefinedDisparity out;
   const int max_iterations = options_.slanted ? 2 * options_.max_iterations : options_.max_iterations;
@@ -96,7 +94,7 @@ std::optional<RefinedDisparity> SubpixelRefiner::Refine(int u_image, int v_image
     const Eigen::Vector3d je = sum_je - sum_e * mean_j;
     if (!(jj(0, 0) >= options_.min_gradient_energy)) return std::nullopt;
     Eigen::Vector3d step = Eigen::Vector3d::Zero();
-    if (parameters == 1) {
+    if (!options_.slanted) {
       step(0) = -je(0) / jj(0, 0);
     } else {
       step = -jj.ldlt().solve(je);
