@@ -16,8 +16,10 @@
 // refinement). The refined point is re-projected from the left pixel
 // u + delta/2 with disparity d_int + delta.
 
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <optional>
+#include <vector>
 
 namespace aar {
 
@@ -49,8 +51,9 @@ struct RefinedDisparity {
   int iterations = 0;
 };
 
-/// Refines disparities of one rectified pair (8-bit gray, same size); the
-/// gradient images are computed once here.
+/// Refines disparities of one rectified pair (8-bit gray, same size). Not
+/// thread-safe: Refine converts image rows on first use (one refiner per
+/// frame and thread).
 class SubpixelRefiner {
  public:
   /// `origin`: the rectified-image pixel of the images' top-left (a region).
@@ -63,8 +66,15 @@ class SubpixelRefiner {
   std::optional<RefinedDisparity> Refine(int u, int v, double disparity_px) const;
 
  private:
-  cv::Mat left_, right_;        // CV_32F intensities
-  cv::Mat left_dx_, right_dx_;  // CV_32F horizontal derivatives
+  /// Converts rows first..last (once each) into left_ and right_.
+  void PrepareRows(int first, int last) const;
+
+  cv::Mat left8_, right8_;  // the rectified 8-bit images (shared, not copied)
+  // CV_32FC2 (intensity, horizontal central difference) per pixel, filled
+  // row by row as windows need them: a frame's receiver covers a fraction of
+  // the rows, and converting the whole image costs more than refining.
+  mutable cv::Mat left_, right_;
+  mutable std::vector<uint8_t> row_ready_;
   SubpixelOptions options_;
   cv::Point origin_;
 };
