@@ -64,7 +64,7 @@ def measure(level, args):
     render = [args.render, "render", dataset, "--rig", rig, "--msaa", args.msaa, "--shard", args.shard,
               "--no-progress"]
     run(render)
-    run([args.render, "calib", dataset, "--rig", rig, "--msaa", args.msaa, "--no-progress"])
+    run([args.render, "calib", dataset, "--rig", rig, "--msaa", args.msaa, "--far-boards", "none", "--no-progress"])
     if not (calib_out / "calibration_report.json").exists():
         run([args.analyze, "calibrate", dataset, "--out", calib_out])
     if not (run_out / "summary.json").exists():

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -20,6 +21,7 @@
 #include "aar/renderer/dataset_writer.h"
 #include "aar/renderer/stereo_render_job.h"
 #include "aar/renderer/vulkan_context.h"
+#include "aar/text.h"
 
 namespace {
 
@@ -59,12 +61,33 @@ const Command& CommandNamed(const char* name) {
 /// The parser of one subcommand; a repeated flag: the last wins.
 void ConfigureApp(CLI::App& app) { app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast); }
 
+/// "30,45" for {30, 45}; "none" for no far boards.
+std::string FarBoardsText(const std::vector<double>& distances_m) {
+  std::string text;
+  for (const double d : distances_m) {
+    char buffer[32];
+    const auto end = std::to_chars(buffer, buffer + sizeof(buffer), d).ptr;  // shortest round-trip form
+    text += (text.empty() ? "" : ",") + std::string(buffer, end);
+  }
+  return text.empty() ? "none" : text;
+}
+
+/// Parses --far-boards: comma-separated distances [m], or "none".
+std::vector<double> ParseFarBoards(const std::string& text) {
+  std::vector<double> distances_m;
+  if (text == "none") return distances_m;
+  for (const std::string& field : aar::SplitCsvLine(text))
+    distances_m.push_back(aar::ParseFiniteDouble(field, "--far-boards"));
+  return distances_m;
+}
+
 /// Flags shared by render, calib and bench; the defaults are RenderJobOptions'.
 struct JobFlags {
   aar::RenderJobOptions job;
   std::string frames;
   std::string shard;
   std::string background = aar::BackgroundName(aar::BackgroundOptions{}.kind);
+  std::string far_boards = FarBoardsText(aar::RenderJobOptions{}.far_boards_m);
 };
 
 // The background flags of `render` (and `bench`); the defaults are BackgroundOptions'.
@@ -92,9 +115,11 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
   cmd.add_option("--rig", f.job.rig, "camera rig JSON")->capture_default_str();
   if (calib) {
     cmd.add_option("--board", f.job.board_model, "calibration board glTF")->capture_default_str();
-    cmd.add_option("--far-boards", f.job.far_boards_m,
-                   "also render the twelve board tilts at these distances along the optical axis [m], e.g. 30,45")
-        ->delimiter(',');
+    cmd.add_option("--far-boards", f.far_boards,
+                   "also render the twelve board tilts at these distances along the optical axis [m] (36 pairs by "
+                   "default; one distance alone leaves focal length and baseline confounded); none: the thesis's "
+                   "twelve near boards only")
+        ->capture_default_str();
     cmd.add_flag("--corner-boards", f.job.corner_boards,
                  "also render 8 boards pushed towards the image corners and edges (covers the periphery, where lens "
                  "distortion is largest)");
@@ -169,6 +194,7 @@ int RunJob(int argc, char** argv, bool calib) {
   CLI11_PARSE(app, argc, argv);
   flags.job.selection = aar::ParseFrameSelection(flags.frames, flags.shard);
   flags.job.background.kind = aar::ParseBackgroundKind(flags.background);
+  if (calib) flags.job.far_boards_m = ParseFarBoards(flags.far_boards);
   const aar::RenderJobResult result =
       calib ? aar::RenderCalibrationJob(flags.job) : aar::RenderFlightPathJob(flags.job);
   Report(result, flags.job.output);

@@ -209,10 +209,13 @@ def _render(ctx, step, argv, dataset):
 
 
 def render_calib(ctx, dataset, msaa, rig=None):
-    """The 12 calibration board pairs; `rig` (a rig JSON, repository-relative) other than aar-render's
-    default scenes/rig.json must be the one the dataset's frames are rendered with."""
+    """The thesis's 12 calibration board pairs (`--far-boards none`: aar-render's default adds the
+    twelve again at 30 and 45 m; the experiments keep the thesis's set so that their tables stay
+    comparable with it); `rig` (a rig JSON, repository-relative) other than aar-render's default
+    scenes/rig.json must be the one the dataset's frames are rendered with."""
     _render(ctx, f"render calibration boards into {dataset.name} (x{msaa})",
-            [ctx.render, "calib", dataset, "--msaa", msaa] + (["--rig", rig] if rig else []), dataset)
+            [ctx.render, "calib", dataset, "--msaa", msaa, "--far-boards", "none"] + (["--rig", rig] if rig else []),
+            dataset)
 
 
 def render_frames(ctx, dataset, msaa, flight_path, selection, extra=()):

@@ -45,7 +45,7 @@ struct DatasetRecipe {
   std::string name;
   std::string flight_path_csv;  ///< content
   int msaa = 16;
-  bool calib = false;  ///< also render the 12 calibration pairs
+  bool calib = false;  ///< also render the thesis's 12 calibration pairs (--far-boards none)
   bool depth = false;  ///< also render depth truth, object ids and silhouettes of both cameras
 };
 
@@ -104,7 +104,8 @@ std::string EnsureDataset(const DatasetRecipe& recipe, fs::path* dir_out) {
       " --no-progress --msaa " + std::to_string(recipe.msaa) + " --rig " + Quote(SourcePath("scenes/rig.json"));
   std::vector<std::string> commands;
   if (recipe.calib) {
-    commands.push_back("calib " + Quote(dir) + common + " --board " + Quote(SourcePath("scenes/calib_board.glb")));
+    commands.push_back("calib " + Quote(dir) + common + " --far-boards none --board " +
+                       Quote(SourcePath("scenes/calib_board.glb")));
   }
   commands.push_back("render " + Quote(dir) + common + " --receiver " + Quote(SourcePath("scenes/c12.glb")) +
                      " --tanker " + Quote(SourcePath("scenes/kc46.glb")) + " --flight-path " + Quote(csv) +

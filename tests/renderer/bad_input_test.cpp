@@ -139,6 +139,20 @@ TEST(RenderBadOutput, UnwritableOutputFolderFailsCleanly) {
   EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
 }
 
+// --far-boards takes distances or "none"; anything else fails before a file is written.
+TEST(RenderBadOutput, FarBoardsMustBeDistancesOrNone) {
+  TempDir dir("bad-far-boards");
+  const std::filesystem::path out = dir / "out";
+  const std::string command = test::BinaryPath("renderer/aar-render").string() + " calib " + out.string() +
+                              " --no-progress --msaa 1 --far-boards 30,far --rig " +
+                              SourcePath("scenes/rig.json").string();
+  const test::CommandResult result = RunCommand(command);
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.output.find("--far-boards: 'far' is not a finite number"), std::string::npos) << result.output;
+  EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+  EXPECT_FALSE(std::filesystem::exists(out)) << "output was written";
+}
+
 // The command table: the top-level help lists every subcommand with its
 // one-line description, a subcommand's help lists its flags, and a missing or
 // unknown subcommand is a usage error.

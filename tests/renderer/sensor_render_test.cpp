@@ -28,6 +28,7 @@ RenderJobOptions Options(const std::filesystem::path& output, const char* rig, c
   o.receiver_model = SourcePath("scenes/c12.glb");
   o.tanker_model = SourcePath("scenes/kc46.glb");
   o.board_model = SourcePath("scenes/calib_board.glb");
+  o.far_boards_m = {};  // the twelve near boards
   o.flight_path = path;
   o.msaa = 1;
   o.depth = true;
