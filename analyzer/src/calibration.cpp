@@ -449,7 +449,7 @@ std::string CalibrationResult::BriefReport() const {
       << " m from the left camera";
   if (board_depth_max_m < 1.5 * board_depth_min_m && !same_focal_length) {
     out << ": at one depth the baseline's z component and the focal-length ratio are hard to tell apart (boards at "
-           "other distances separate them: aar-render calib --far-boards; for a matched pair, "
+           "other distances separate them: aar-render calib's default 36, or --far-boards; for a matched pair, "
            "aar-analyze calibrate --same-focal-length)";
   }
   out << "\n";
