@@ -26,7 +26,7 @@ namespace aar {
 struct SubpixelOptions {
   int half_window_px = 4;          ///< window (2h+1)^2; 4 = the 9x9 block of the thesis's matcher [px]
   int max_iterations = 4;          ///< Gauss-Newton steps at most (slanted windows: twice this)
-  double tolerance_px = 0.002;     ///< stop when a step is smaller [px]
+  double tolerance_px = 0.01;      ///< stop when a step is smaller [px]
   double max_correction_px = 1.0;  ///< |delta - start| larger than this: refinement rejected [px]
   /// Summed squared horizontal gradient over the window below which the
   /// window has too little texture to refine [grey levels^2 / px^2].
