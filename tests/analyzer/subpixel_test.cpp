@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -127,6 +129,40 @@ TEST(Subpixel, SlantedWindowsFollowTheDisparitySlope) {
   EXPECT_NEAR(slanted.slope_u, plane.a, 0.01);
   EXPECT_NEAR(slanted.slope_v, plane.b, 0.01);
   EXPECT_EQ(flat.slope_u, 0.0);
+}
+
+TEST(Subpixel, ARegionOfTheImagesRefinesLikeTheWholeImages) {
+  // The tracking mode hands the refiner the rectified region only (with its
+  // origin); rows are converted on first use, so the order of the queries
+  // must not matter either: the same bytes in, the same answers out.
+  const Plane plane{0.08, 0.12, 14.61 - 0.08 * 100.0 - 0.12 * 60.0};
+  cv::Mat left, right;
+  RenderPair(Texture(7), plane, left, right);
+  const cv::Rect region(30, 20, 120, 90);
+  const SubpixelRefiner whole(left, right, SubpixelOptions{});
+  const SubpixelRefiner part(left(region).clone(), right(region).clone(), SubpixelOptions{}, region.tl());
+  const auto start_at = [&](int u, int v) { return std::round(16.0 * plane.At(u, v)) / 16.0 + 0.3; };
+  std::map<std::pair<int, int>, std::optional<RefinedDisparity>> expected;
+  for (int v = 40; v < 80; v += 3) {  // top-down on the whole images
+    for (int u = 70; u < 130; u += 3) expected[{u, v}] = whole.Refine(u, v, start_at(u, v));
+  }
+  size_t compared = 0;
+  for (int v = 79; v >= 40; v -= 3) {  // bottom-up on the region
+    for (int u = 70; u < 130; u += 3) {
+      const auto a = part.Refine(u, v, start_at(u, v));
+      const auto& b = expected.at({u, v});
+      ASSERT_EQ(a.has_value(), b.has_value()) << u << " " << v;
+      if (!a) continue;
+      EXPECT_EQ(a->disparity_px, b->disparity_px) << u << " " << v;
+      EXPECT_EQ(a->u_px, b->u_px);
+      EXPECT_EQ(a->slope_u, b->slope_u);
+      EXPECT_EQ(a->slope_v, b->slope_v);
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 200u);
+  // A window reaching past the region's edge is refused, not read outside it.
+  EXPECT_FALSE(part.Refine(region.x + 3, 60, 10.0).has_value());
 }
 
 TEST(Subpixel, RejectsInvalidOptions) {
