@@ -130,6 +130,9 @@ void FrameAnalysisOptions::Check() const {
   if (truth_cloud_noise_px > 0.0 && !register_truth_cloud) throw Error("--truth-cloud-noise needs --truth-cloud");
   if (reprojection.keep_one_in == 0) throw Error("reprojection keep_one_in must be at least 1");
   if (!(max_icp_rmse_m > 0)) throw Error("max_icp_rmse_m must be positive");
+  if (!(min_inlier_fraction >= 0.0 && min_inlier_fraction <= 1.0)) {
+    throw Error("min_inlier_fraction must be in [0, 1]");
+  }
   if (!(disparity_noise_px >= 0)) throw Error("disparity_noise_px must not be negative");
   if (!(max_seed_attitude_deg >= 0.0 && max_seed_attitude_deg <= 180.0)) {
     throw Error("max_seed_attitude_deg must be in [0, 180]");
@@ -384,51 +387,78 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
     }
     const BoomMasks* boom = boom_masks ? &*boom_masks : nullptr;
     const std::optional<Pose> seed = SeedFromHistory(history, options_);
+    // Why a registration failed: its residual beyond what stereo noise at
+    // its range explains, or too few pairs (min_inlier_fraction); empty when it did not.
+    const auto failure = [&](const Registered& reg, size_t sensed_points) -> std::string {
+      const double range_m = (reg.tanker_from_receiver.translation() - tanker_from_left_.translation()).norm();
+      const double sigma_z = range_m * range_m * options_.disparity_noise_px / focal_times_baseline_px_m_;
+      const double limit_m = options_.max_icp_rmse_m + 3.0 * sigma_z;
+      if (!reg.tanker_from_receiver.matrix().allFinite() || !(reg.rmse_m <= limit_m)) {
+        return "ICP did not converge (residual " + FormatFixed(reg.rmse_m, 3) + " m, limit " + FormatFixed(limit_m, 3) +
+               " m at " + FormatFixed(range_m, 1) + " m)";
+      }
+      if (static_cast<double>(reg.inliers) < options_.min_inlier_fraction * static_cast<double>(sensed_points)) {
+        return "ICP lost the receiver (" + std::to_string(reg.inliers) + " of " + std::to_string(sensed_points) +
+               " sensed points paired)";
+      }
+      return "";
+    };
     Registered icp{};
-    bool measured = false;
-    StageTimes lost_times;  // spent on a region the receiver was not (all) in
-    if (options_.track_region && predicted) {
-      const cv::Rect roi = PredictedRegion(IsometryFromPose(*predicted));
-      if (roi.area() > 0) {
-        FrameResult attempt = r;
-        try {
-          icp = Measure(left, right, roi, seed, truth, left_path, boom, attempt, dump);
-          // Lost when the receiver reaches the region's border: measure the whole image.
-          const cv::Rect estimated = PredictedRegion(icp.tanker_from_receiver, 0.0, 0);
-          measured = estimated.area() > 0 && (estimated & roi) == estimated;
-        } catch (const Error&) {
-          measured = false;
-        }
-        if (measured) {
-          r = attempt;
-        } else {
-          lost_times = attempt.times;
+    std::string why;
+    try {
+      bool measured = false;
+      StageTimes lost_times;  // spent on a region the receiver was not (all) in
+      if (options_.track_region && predicted) {
+        const cv::Rect roi = PredictedRegion(IsometryFromPose(*predicted));
+        if (roi.area() > 0) {
+          FrameResult attempt = r;
+          try {
+            icp = Measure(left, right, roi, seed, truth, left_path, boom, attempt, dump);
+            // Lost when the receiver reaches the region's border: measure the whole image.
+            const cv::Rect estimated = PredictedRegion(icp.tanker_from_receiver, 0.0, 0);
+            measured = estimated.area() > 0 && (estimated & roi) == estimated;
+          } catch (const std::exception&) {  // aar::Error, or OpenCV's on a region too small to match
+            measured = false;
+          }
+          if (measured) {
+            r = attempt;
+          } else {
+            lost_times = attempt.times;
+          }
         }
       }
+      if (!measured) {
+        icp = Measure(left, right, cv::Rect(), seed, truth, left_path, boom, r, dump);
+        r.times.rectify_ms += lost_times.rectify_ms;
+        r.times.disparity_ms += lost_times.disparity_ms;
+        r.times.reproject_ms += lost_times.reproject_ms;
+        r.times.icp_ms += lost_times.icp_ms;
+      }
+      why = failure(icp, r.sensed_points);
+    } catch (const std::exception& e) {
+      if (!seed) throw;
+      why = e.what();
     }
-    if (!measured) {
-      icp = Measure(left, right, cv::Rect(), seed, truth, left_path, boom, r, dump);
-      r.times.rectify_ms += lost_times.rectify_ms;
-      r.times.disparity_ms += lost_times.disparity_ms;
-      r.times.reproject_ms += lost_times.reproject_ms;
-      r.times.icp_ms += lost_times.icp_ms;
+    if (!why.empty() && seed) {
+      // Tracking from the last estimate went wrong: the centroid, the whole image.
+      const StageTimes spent = r.times;
+      icp = Measure(left, right, cv::Rect(), std::nullopt, truth, left_path, boom, r, dump);
+      r.times.rectify_ms += spent.rectify_ms;
+      r.times.disparity_ms += spent.disparity_ms;
+      r.times.reproject_ms += spent.reproject_ms;
+      r.times.icp_ms += spent.icp_ms;
+      why = failure(icp, r.sensed_points);
     }
     r.icp_iterations = icp.iterations;
     r.icp_converged = icp.converged;
     r.icp_rmse_m = icp.rmse_m;
     r.icp_inliers = icp.inliers;
-    const double range_m = (icp.tanker_from_receiver.translation() - tanker_from_left_.translation()).norm();
-    const double sigma_z = range_m * range_m * options_.disparity_noise_px / focal_times_baseline_px_m_;
-    const double limit_m = options_.max_icp_rmse_m + 3.0 * sigma_z;
     if (icp.tanker_from_receiver.matrix().allFinite()) {
       r.estimate = PoseFromIsometry(icp.tanker_from_receiver);
       r.error = PoseError(r.estimate, r.truth);
       r.has_estimate = true;
     }
-    if (!icp.tanker_from_receiver.matrix().allFinite() || !(icp.rmse_m <= limit_m)) {
-      throw Error(left_path + ": ICP did not converge (residual " + FormatFixed(icp.rmse_m, 3) + " m, limit " +
-                  FormatFixed(limit_m, 3) + " m at " + FormatFixed(range_m, 1) + " m)");
-    }
+    if (!why.empty()) throw Error(left_path + ": " + why);
     r.status = "ok";
   } catch (const std::exception& e) {  // aar::Error, json or OpenCV errors: the frame is not measured
     r.status = e.what();

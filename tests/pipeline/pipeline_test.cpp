@@ -10,9 +10,13 @@
 #include <regex>
 
 #include "aar/analyzer/analysis_run.h"
+#include "aar/analyzer/frame_analysis.h"
+#include "aar/analyzer/mesh.h"
 #include "aar/analyzer/pose_statistics.h"
 #include "aar/dataset.h"
 #include "aar/file_io.h"
+#include "aar/rig.h"
+#include "aar/stereo_calibration.h"
 #include "pipeline_support.h"
 
 namespace aar {
@@ -138,6 +142,35 @@ TEST(Pipeline, HaloRemovalLeavesFewPointsOffTheReceiver) {
   ASSERT_GT(cleaned.points, 1000u);
   EXPECT_GT(raw.Fraction(), 0.20);
   EXPECT_LT(cleaned.Fraction(), 0.05);
+}
+
+// Tracking from a wrong last estimate (8 m aside, 3 m down, 14 deg of yaw: within the
+// seed's attitude limit) leaves the ICP's gate no pair; the frame must not be
+// reported from where the ICP started, but measured again from the centroid
+// on the whole image.
+TEST(Pipeline, TrackingFallsBackToTheCentroidWhenTheLastEstimateIsWrong) {
+  ASSERT_DATASETS();
+  const fs::path dataset = SharedDatasets().near_contact;
+  const StereoRig rig = LoadRig(dataset / kRigName);
+  const ReferenceModel shell = BuildReferenceModel(LoadReceiverMesh(dataset / kReceiverModelName), rig, {});
+  FrameAnalysisOptions options = FrameAnalysisOptions::ForPreset(Preset::kDefault);
+  options.seed = IcpSeed::kPreviousFrame;
+  options.track_region = true;
+  const FrameAnalyzer analyzer(ReadCalibration(dataset / "calibration_ideal.yaml"), rig.left.tanker_from_camera, shell,
+                               options);
+  const FrameResult good = analyzer.Analyze(dataset, 1, {}, TrackHistory{});
+  ASSERT_EQ(good.status, "ok");
+  Pose wrong = good.truth;
+  wrong.translation_m += Eigen::Vector3d(0.0, 8.0, 3.0);
+  wrong.yaw_deg += 14.0;
+  TrackHistory history;
+  history.last = std::make_pair(good.time_s, wrong);
+  const FrameResult tracked = analyzer.Analyze(dataset, 2, {}, history);
+  ASSERT_EQ(tracked.status, "ok");
+  // The frame measured from the centroid: the end-to-end test's bounds.
+  const SixDof bound{{0.15, 0.04, 0.03, 0.5, 0.4, 0.5}};
+  for (size_t k = 0; k < 6; ++k) EXPECT_LT(std::abs(tracked.error[k]), bound[k]) << kDofNames[k];
+  EXPECT_GT(tracked.icp_inliers, tracked.sensed_points / 2);
 }
 
 TEST(Pipeline, RegistrationOfTheIdealCloudIsExact) {

@@ -123,7 +123,15 @@ struct FrameAnalysisOptions {
   /// residual RMS exceeds max_icp_rmse_m + 3 sigma_z, where sigma_z =
   /// r^2 disparity_noise_px / (f b) is the stereo depth noise expected at the
   /// estimated range r (f b from Q); such a frame is recorded as not measured.
-  double max_icp_rmse_m = 2.0;      ///< residual allowance at zero range [m]
+  double max_icp_rmse_m = 2.0;  ///< residual allowance at zero range [m]
+  /// Registration failed, too, when fewer than this fraction of the sensed
+  /// points pair with the model: a cleaned cloud on a registered receiver
+  /// pairs nearly all of them (at least 0.92 on every measured CONOPS and
+  /// characterization frame), while a seed far from the receiver leaves the
+  /// gate no pair and the ICP where it started (its residual over no pairs
+  /// is 0). With a seed from the last frame, such a frame is measured again
+  /// from the centroid on the whole image (the tracker's safe fallback).
+  double min_inlier_fraction = 0.5;
   double disparity_noise_px = 0.1;  ///< disparity noise used for sigma_z [px] (a typical block-matching accuracy)
   /// Remove the boom's pixels before re-projection (boom_mask.h), drawn from
   /// the sidecar's boom angles and the rig; needs FrameAnalyzer::EnableBoomMask.
