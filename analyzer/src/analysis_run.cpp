@@ -33,8 +33,10 @@ nlohmann::json Finite(double value) { return std::isfinite(value) ? nlohmann::js
 
 nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
   const FrameAnalysisOptions& f = o.frame;
-  nlohmann::json registration = {
-      {"algorithm", ToString(f.registration)}, {"seed", ToString(f.seed)}, {"track_region", f.track_region}};
+  nlohmann::json registration = {{"algorithm", ToString(f.registration)},
+                                 {"seed", ToString(f.seed)},
+                                 {"track_region", f.track_region},
+                                 {"min_inlier_fraction", f.min_inlier_fraction}};
   if (f.seed == IcpSeed::kPreviousFrame) registration["max_seed_attitude_deg"] = f.max_seed_attitude_deg;
   if (f.registration == Registration::kPointToPoint) {
     registration.update({{"max_iterations", f.icp.max_iterations},
