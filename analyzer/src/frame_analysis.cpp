@@ -17,6 +17,15 @@
 namespace aar {
 namespace {
 
+// Adds the measuring stages of an earlier attempt at the same frame (a lost
+// tracking region, a failed seed) to the times of the one that counts.
+void AddAttemptTimes(StageTimes& times, const StageTimes& attempt) {
+  times.rectify_ms += attempt.rectify_ms;
+  times.disparity_ms += attempt.disparity_ms;
+  times.reproject_ms += attempt.reproject_ms;
+  times.icp_ms += attempt.icp_ms;
+}
+
 // R1^T as a transform: rectified left camera to left camera.
 Eigen::Isometry3d LeftFromRectLeft(const StereoCalibration& calibration) {
   cv::Mat r1;
@@ -429,10 +438,7 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
       }
       if (!measured) {
         icp = Measure(left, right, cv::Rect(), seed, truth, left_path, boom, r, dump);
-        r.times.rectify_ms += lost_times.rectify_ms;
-        r.times.disparity_ms += lost_times.disparity_ms;
-        r.times.reproject_ms += lost_times.reproject_ms;
-        r.times.icp_ms += lost_times.icp_ms;
+        AddAttemptTimes(r.times, lost_times);
       }
       why = failure(icp, r.sensed_points);
     } catch (const std::exception& e) {
@@ -443,10 +449,7 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
       // Tracking from the last estimate went wrong: the centroid, the whole image.
       const StageTimes spent = r.times;
       icp = Measure(left, right, cv::Rect(), std::nullopt, truth, left_path, boom, r, dump);
-      r.times.rectify_ms += spent.rectify_ms;
-      r.times.disparity_ms += spent.disparity_ms;
-      r.times.reproject_ms += spent.reproject_ms;
-      r.times.icp_ms += spent.icp_ms;
+      AddAttemptTimes(r.times, spent);
       why = failure(icp, r.sensed_points);
     }
     r.icp_iterations = icp.iterations;
