@@ -13,8 +13,15 @@ analyzed with the default preset and the shelled model:
   - for the boom and the propellers, also with the analyzer's masks (`aar-analyze run --mask-boom`,
     `--mask-propellers`).
 
+The sensor block is also split into its parts (noise alone, blur alone, the
+Bayer mosaic alone, each through an otherwise noise-free sensor), and every
+dataset is rendered with depth truth, so that each stage is measured where it
+acts: the disparity error of the sensed points on the receiver, the fraction
+of sensed points off the receiver or off its surface, and the signed error of
+x and pitch beside the mean absolute ones.
+
 The report has, per region, each degree of freedom's mean absolute error and
-its ratio to the baseline's, the calibrations' errors against the rig, two
+its ratio to the baseline's, the stage measurements, the calibrations' errors against the rig, two
 kinds of figure and results.json. Propellers and motion blur need
 `aar-render render --propellers` and `--shutter-ms`: the effects whose flags
 this aar-render's `render --help` does not list are left out (and named so).
@@ -41,6 +48,11 @@ PROPELLERS = ("--propellers", "1700")
 SHUTTER = ("--shutter-ms", "4")
 QUICK_TIME_SAMPLES = ("--time-samples", "4")  # --quick: 4 instants over the exposure, not the renderer's default
 MSAA = {"quick": 4, "full": 16}
+DEPTH = ("--depth",)  # every dataset: depth truth for the stage measurements
+# A sensor with no noise worth the name: 10^7 e- at radiance 1 (shot noise 0.03 % of a mid-grey), no read noise or
+# fixed pattern, a 16-bit ADC. With it, one part of scenes/rig-noisy.json's sensor is switched on at a time.
+NOISE_FREE_SENSOR = {"exposure_e": 1.0e7, "full_well_e": 2.0e7, "read_noise_e": 0.0, "prnu": 0.0, "dsnu_e": 0.0,
+                     "adc_bits": 16, "blur_sigma_px": 0.0, "bayer": "none"}
 
 
 @dataclass
@@ -90,6 +102,24 @@ def combined_rig(ctx):
     return path
 
 
+def sensor_part_rig(ctx, part):
+    """OUT/rig-sensor-<part>.json: scenes/rig-noisy.json with one part of its sensor block: "noise" (its photon
+    transfer, no blur, no mosaic), "blur" or "mosaic" (that part alone through NOISE_FREE_SENSOR)."""
+    rig = json.loads((ROOT / RIG_NOISY).read_text())
+    sensor = rig["sensor"]
+    if part == "noise":
+        rig["sensor"] = dict(sensor, blur_sigma_px=0.0, bayer="none")
+    elif part == "blur":
+        rig["sensor"] = {**sensor, **NOISE_FREE_SENSOR, "blur_sigma_px": sensor["blur_sigma_px"]}
+    else:
+        rig["sensor"] = {**sensor, **NOISE_FREE_SENSOR, "bayer": sensor["bayer"]}
+    rig["description"] = (f"{RIG_NOISY} with only the {part} of its sensor block, written by "
+                          "experiments/aar_experiment.py realism")
+    path = ctx.out / f"rig-sensor-{part}.json"
+    path.write_text(json.dumps(rig, indent=2) + "\n")
+    return path
+
+
 def effect_table(ctx, flags):
     """(effects in report order, effects left out) for this aar-render's `render` flags."""
     shutter = SHUTTER + (QUICK_TIME_SAMPLES if ctx.quick and QUICK_TIME_SAMPLES[0] in flags else ())
@@ -100,6 +130,12 @@ def effect_table(ctx, flags):
         Effect("distortion", f"lens distortion: `{RIG_DISTORTED}` (Brown-Conrady, barrel)", rig=RIG_DISTORTED),
         Effect("sensor", f"sensor model: `{RIG_NOISY}` (photon transfer noise, optical blur, Bayer mosaic)",
                rig=RIG_NOISY),
+        Effect("sensor-noise", "the sensor's noise alone (photon transfer of `rig-noisy.json`, no blur, no mosaic)",
+               rig=sensor_part_rig(ctx, "noise")),
+        Effect("sensor-blur", "the sensor's optical blur alone (0.5 px Gaussian, a noise-free sensor)",
+               rig=sensor_part_rig(ctx, "blur")),
+        Effect("sensor-mosaic", "the sensor's RGGB mosaic and bilinear demosaicing alone (a noise-free sensor)",
+               rig=sensor_part_rig(ctx, "mosaic")),
         Effect("boom", f"the refueling boom, posed by `{BOOM_PATH}`", path=BOOM_PATH, masks=("--mask-boom",)),
         Effect("terrain", "terrain behind the receiver (`--background terrain`)", render=("--background", "terrain")),
         Effect("motion-blur", "motion blur: a 4 ms exposure (`--shutter-ms 4`)", render=shutter, needs=SHUTTER[:1]),
@@ -116,9 +152,6 @@ def effect_table(ctx, flags):
 
 
 def dataset_name(effect, msaa):
-    # The full baseline is Experiment 2's dataset (the same flags), rendered once for both.
-    if effect.key == "baseline" and msaa == 16:
-        return "conops-x16"
     return f"realism-x{msaa}-{effect.key}{effect.suffix}"
 
 
@@ -130,7 +163,7 @@ def measure(ctx, effect, msaa, sel, baseline_calibration):
     if effect.rig or baseline_calibration is None:
         render_calib(ctx, ds, msaa, effect.rig)
         cal = calibrate(ctx, ds, ctx.out / "calibrations" / effect.key)
-    render_frames(ctx, ds, msaa, effect.path, sel, tuple(effect.render) + rig_args)
+    render_frames(ctx, ds, msaa, effect.path, sel, tuple(effect.render) + DEPTH + rig_args)
     yaml = cal / "calibration.yaml"
     effect.runs["boards"] = analyze(ctx, effect.key, ds, "shelled", sel, calibration=yaml, extra=PRESET)
     effect.runs["ideal"] = analyze(ctx, f"{effect.key}-ideal", ds, "shelled", sel,
@@ -144,19 +177,38 @@ def measure(ctx, effect, msaa, sel, baseline_calibration):
 GROSS_DEG = 5.0  # an attitude error beyond this (any of roll, pitch, yaw) counts as a gross failure
 
 
+def stage_results(rows):
+    """The stages of the measured frames `rows` against the depth truth (frames.csv's truth_* columns): the
+    disparity error of the sensed points on the receiver (mean and RMS, px), the fractions of sensed points off
+    the receiver and off its surface, sensed points per frame, and the signed mean error of x (m) and pitch (deg)."""
+    if not rows:
+        return None
+    points = sum(r["truth_points"] for r in rows)
+    off_receiver = sum(r["truth_off_receiver"] for r in rows)
+    on = points - off_receiver
+    return {"disparity_mean_px": sum(r["truth_error_sum_px"] for r in rows) / on if on else None,
+            "disparity_rms_px": (sum(r["truth_error_squared_sum_px2"] for r in rows) / on) ** 0.5 if on else None,
+            "off_receiver": off_receiver / points if points else None,
+            "off_surface": sum(r["truth_off_surface"] for r in rows) / points if points else None,
+            "points_per_frame": sum(r["sensed_points"] for r in rows) / len(rows),
+            "signed_x_m": sum(r["err_x_m"] for r in rows) / len(rows),
+            "signed_pitch_deg": sum(r["err_pitch_deg"] for r in rows) / len(rows)}
+
+
 def region_results(run_dir):
-    """{region: {"mae": tuple in COMPONENTS order or None, "ok": n, "frames": n, "gross": n}} for the regions
-    analyzed; gross: measured frames with an attitude error beyond GROSS_DEG (frames.csv)."""
+    """{region: {"mae": tuple in COMPONENTS order or None, "ok": n, "frames": n, "gross": n, "stages": dict or
+    None}} for the regions analyzed; gross: measured frames with an attitude error beyond GROSS_DEG
+    (frames.csv); stages: stage_results of its measured frames."""
     summary = read_json(run_dir / "summary.json")
     rows = ok_rows(read_frames(run_dir))
     out = {}
     for region in ("A", "B", "C"):
         ok, frames = group_counts(summary, "shelled", region)
         if frames:
-            gross = sum(1 for r in rows if r["region"] == region
-                        and max(abs(r[f"err_{c}_deg"]) for c in ("roll", "pitch", "yaw")) > GROSS_DEG)
+            mine = [r for r in rows if r["region"] == region]
+            gross = sum(1 for r in mine if max(abs(r[f"err_{c}_deg"]) for c in ("roll", "pitch", "yaw")) > GROSS_DEG)
             out[region] = {"mae": group_stats(summary, "shelled", region, "mean_abs_error"), "ok": ok,
-                           "frames": frames, "gross": gross}
+                           "frames": frames, "gross": gross, "stages": stage_results(mine)}
     return out
 
 
