@@ -165,8 +165,9 @@ def write(ctx, effects, left_out, results, sel):
           "and of those off its surface (also the receiver points whose disparity errs by more than 0.5 px), "
           "the sensed points per frame, and the signed mean error of x and pitch: a mean absolute error equal to "
           "the signed one is a bias, not noise. At the range of region C a mean disparity error of -0.02 px "
-          "moves the receiver about 5 cm away (x), since z = f b / d. The masks act in the registration, after these "
-          "measurements: a masked row's cloud columns are those of the cloud before the mask.")
+          "moves the receiver about 5 cm away (x), since z = f b / d. The boom's mask removes disparities, before these "
+          "measurements; the propellers' mask acts in the registration, after them: its rows show the cloud before "
+          "the mask.")
     for region in _regions(results):
         _stage_section(rep, results, region)
     return conclude(ctx, rep, [r for e in effects for r in e.runs.values()])
