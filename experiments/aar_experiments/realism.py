@@ -213,9 +213,9 @@ def region_results(run_dir):
 
 
 @register("realism", order=5,
-          help="beyond the thesis (issue 9): lens distortion, sensor noise and blur, the boom, terrain, "
-               "propellers and motion blur (when aar-render has them), each alone and all together: region "
-               "errors and calibration errors against the baseline (every 6th CONOPS frame at x16; --quick: "
+          help="beyond the thesis: lens distortion, the sensor (and its noise, blur and mosaic alone), the boom, "
+               "terrain, propellers and motion blur (when aar-render has them), each alone and all together: region "
+               "errors, each stage against the depth truth, and calibration errors against the baseline (every 6th CONOPS frame at x16; --quick: "
                "four region-C frames at x4)")
 def run(ctx):
     msaa = MSAA["quick" if ctx.quick else "full"]
