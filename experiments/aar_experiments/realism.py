@@ -21,8 +21,8 @@ of sensed points off the receiver or off its surface, and the signed error of
 x and pitch beside the mean absolute ones.
 
 The report has, per region, each degree of freedom's mean absolute error and
-its ratio to the baseline's, the stage measurements, the calibrations' errors against the rig, two
-kinds of figure and results.json. Propellers and motion blur need
+its ratio to the baseline's, the stage measurements, the calibrations' errors
+against the rig, two kinds of figure and results.json. Propellers and motion blur need
 `aar-render render --propellers` and `--shutter-ms`: the effects whose flags
 this aar-render's `render --help` does not list are left out (and named so).
 """
@@ -214,9 +214,9 @@ def region_results(run_dir):
 
 @register("realism", order=5,
           help="beyond the thesis: lens distortion, the sensor (and its noise, blur and mosaic alone), the boom, "
-               "terrain, propellers and motion blur (when aar-render has them), each alone and all together: region "
-               "errors, each stage against the depth truth, and calibration errors against the baseline (every 6th CONOPS frame at x16; --quick: "
-               "four region-C frames at x4)")
+               "terrain, propellers and motion blur (when aar-render has them), each alone and all together: "
+               "region errors, each stage against the depth truth, and calibration errors against the baseline "
+               "(every 6th CONOPS frame at x16; --quick: four region-C frames at x4)")
 def run(ctx):
     msaa = MSAA["quick" if ctx.quick else "full"]
     sel = ctx.sel["realism"]

@@ -72,8 +72,9 @@ def _regions(results):
     return [g for g in REGIONS if g in present]
 
 
-def _region_section(ctx, rep, results, region):
-    rep.h(f"Region {region} ({REGION_RANGES[region]}): mean absolute error", 3)
+def _variant_rows(results, region, cells):
+    """Table rows of every effect's analysis variants in `region`: effect (on its first row), variant label, then
+    cells(effect key, variant, region result)."""
     rows = []
     for key, e in results["effects"].items():
         first = True
@@ -81,11 +82,23 @@ def _region_section(ctx, rep, results, region):
             r = e["variants"].get(variant, {}).get(region)
             if r is None:
                 continue
-            ratios = ratio_to_baseline(results, key, variant, region) if key != "baseline" else (None,) * 6
-            mae = r["mae"] or (None,) * 6
-            cells = [fmt(v) + (f" ({q:.2f})" if q is not None else "") for v, q in zip(mae, ratios)]
-            rows.append([f"`{key}`" if first else "", label] + cells + [f"{r['ok']}/{r['frames']}", str(r["gross"])])
+            rows.append([f"`{key}`" if first else "", label] + cells(key, variant, r))
             first = False
+    return rows
+
+
+def _error_cells(results, region):
+    def cells(key, variant, r):
+        ratios = ratio_to_baseline(results, key, variant, region) if key != "baseline" else (None,) * 6
+        mae = r["mae"] or (None,) * 6
+        return ([fmt(v) + (f" ({q:.2f})" if q is not None else "") for v, q in zip(mae, ratios)]
+                + [f"{r['ok']}/{r['frames']}", str(r["gross"])])
+    return cells
+
+
+def _region_section(ctx, rep, results, region):
+    rep.h(f"Region {region} ({REGION_RANGES[region]}): mean absolute error", 3)
+    rows = _variant_rows(results, region, _error_cells(results, region))
     rep.table(["Effect", "Analysis"] + list(COMPONENT_HEADERS) + ["Frames ok/all", f"> {results['gross_deg']:g} deg"],
               rows, ["---", "---"] + ["---:"] * 8)
     series = []
@@ -121,15 +134,7 @@ def _stage_cells(st):
 
 def _stage_section(rep, results, region):
     rep.h(f"Region {region} ({REGION_RANGES[region]}): stage by stage", 3)
-    rows = []
-    for key, e in results["effects"].items():
-        first = True
-        for variant, label in VARIANTS:
-            r = e["variants"].get(variant, {}).get(region)
-            if r is None:
-                continue
-            rows.append([f"`{key}`" if first else "", label] + _stage_cells(r.get("stages")))
-            first = False
+    rows = _variant_rows(results, region, lambda key, variant, r: _stage_cells(r.get("stages")))
     rep.table(["Effect", "Analysis"] + list(STAGE_HEADERS), rows, ["---", "---"] + ["---:"] * len(STAGE_HEADERS))
 
 
