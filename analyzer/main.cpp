@@ -134,7 +134,8 @@ struct RunFlags {
     cmd->add_option("--subpixel-window", subpixel_window,
                     "sub-pixel window: slanted (default: follows the surface's disparity slope) or flat (one shift)");
     cmd->add_option("--widen-search", widen, "match near frames again with a wider disparity search (default: true)");
-    cmd->add_option("--disparity-offset", disparity_offset_px, "also subtracted from every disparity [px] (0)");
+    cmd->add_option("--disparity-offset", disparity_offset_px,
+                    "also subtracted from every disparity, refined or not [px] (0)");
     cmd->add_option("--disparity-noise", disparity_noise_px, "disparity noise of the ICP noise model [px] (0.1)");
     cmd->add_option("--keep-one-in", keep_one_in, "keep one re-projected point in N (8)");
     cmd->add_option("--target-points", target_points,

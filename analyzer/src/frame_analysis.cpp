@@ -250,7 +250,7 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
     start = std::chrono::steady_clock::now();
     ReprojectionOptions reprojection = options_.reprojection;
     if (options_.remove_rounding_bias)
-      reprojection.disparity_offset_px += MatcherRoundingBiasPx(disparity_options.algorithm);
+      reprojection.matcher_bias_px = MatcherRoundingBiasPx(disparity_options.algorithm);
     cloud = Reproject(disparity.disparity16, disparity.invalid_value16, calibration_, tanker_from_left_, reprojection,
                       refiner.get(), region.tl());
     r.sensed_points = cloud.points_in_tanker.size();

@@ -47,7 +47,7 @@ SensedCloud Reproject(const cv::Mat& disparity16, int invalid_value16, const Ste
       const short* row = disparity16.ptr<short>(row_index);
       for (int column = 0; column < disparity16.cols; ++column) {
         if (row[column] <= invalid_value16) continue;
-        const double d = row[column] / 16.0 - options.disparity_offset_px;
+        const double d = row[column] / 16.0 - options.matcher_bias_px - options.disparity_offset_px;
         const Eigen::Vector3d p = point_at(column + origin.x, row_index + origin.y, d);
         if (in_range(p)) depths.push_back(p.z());
       }
@@ -71,18 +71,19 @@ SensedCloud Reproject(const cv::Mat& disparity16, int invalid_value16, const Ste
     for (int column = 0; column < disparity16.cols; ++column) {
       if (row[column] <= invalid_value16) continue;
       const int u = column + origin.x;
-      const double d = row[column] / 16.0 - options.disparity_offset_px;
+      const double matched = row[column] / 16.0 - options.matcher_bias_px;
+      const double d = matched - options.disparity_offset_px;
       Eigen::Vector3d point_in_rect_left = point_at(u, v, d);
       if (!in_range(point_in_rect_left)) continue;
       if (cloud.valid_count++ % step != 0) continue;
       Eigen::Vector3d pixel(u, v, d);
       if (refiner != nullptr) {
-        const auto refined = refiner->Refine(u, v, d);
+        const auto refined = refiner->Refine(u, v, matched);
         if (!refined) {
           ++cloud.refine_rejected;
           continue;
         }
-        pixel = Eigen::Vector3d(refined->u_px, v, refined->disparity_px);
+        pixel = Eigen::Vector3d(refined->u_px, v, refined->disparity_px - options.disparity_offset_px);
         const Eigen::Vector4d r = q * Eigen::Vector4d(pixel.x(), v, pixel.z(), 1.0);
         point_in_rect_left = r.head<3>() / r.w();
         if (!in_range(point_in_rect_left)) continue;

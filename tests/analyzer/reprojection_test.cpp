@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstring>
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 
+#include "aar/analyzer/subpixel.h"
 #include "aar/error.h"
 #include "aar/pose.h"
 #include "aar/rig.h"
@@ -205,6 +207,38 @@ TEST(Reprojection, DisparityOffsetIsSubtractedBeforeEquationOne) {
   ASSERT_FALSE(cloud.points_in_tanker.empty());
   const double expected_z = rig.left.intrinsics.fx_px * rig.Baseline() / 12.0;
   EXPECT_NEAR(cloud.points_in_tanker.front().z(), expected_z, 1e-9);
+}
+
+// A rectified pair whose right image is the left one moved by exactly 12 px:
+// the refinement finds 12 px from any start within a pixel.
+TEST(Reprojection, RefinedDisparitiesLoseTheMatcherBiasAndKeepTheOffset) {
+  const StereoRig rig = TestRig();
+  const StereoCalibration c = IdealCalibration(rig);
+  cv::Mat noise(kHeight, kWidth + 12, CV_32F), texture;
+  cv::RNG rng(7);
+  rng.fill(noise, cv::RNG::UNIFORM, 0.0, 255.0);
+  cv::GaussianBlur(noise, texture, cv::Size(0, 0), 1.0);
+  cv::Mat left, right;
+  texture(cv::Rect(0, 0, kWidth, kHeight)).convertTo(left, CV_8U);
+  texture(cv::Rect(12, 0, kWidth, kHeight)).convertTo(right, CV_8U);
+  // right(x) = texture(x + 12): left pixel u shows what right pixel u - 12 shows.
+  const SubpixelRefiner refiner(left, right, SubpixelOptions{});
+  const cv::Mat disparity(kHeight, kWidth, CV_16S, cv::Scalar(short{200}));  // the matcher says 12.5 px
+  const auto median_disparity = [&](double matcher_bias_px, double offset_px) {
+    ReprojectionOptions options = PlainOptions();
+    options.matcher_bias_px = matcher_bias_px;
+    options.disparity_offset_px = offset_px;
+    options.keep_one_in = 1;
+    const SensedCloud cloud = Reproject(disparity, kInvalid16, c, Eigen::Isometry3d::Identity(), options, &refiner);
+    std::vector<double> d;
+    for (const Eigen::Vector3d& pixel : cloud.pixels) d.push_back(pixel.z());
+    EXPECT_GT(d.size(), 1000u);
+    std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+    return d[d.size() / 2];
+  };
+  EXPECT_NEAR(median_disparity(0.0, 0.0), 12.0, 0.01);
+  EXPECT_NEAR(median_disparity(0.3, 0.0), 12.0, 0.01);  // a better start, the same answer
+  EXPECT_NEAR(median_disparity(0.0, 0.25), 11.75, 0.01);
 }
 
 }  // namespace

@@ -64,7 +64,8 @@ struct FrameAnalysisOptions {
   bool remove_halo = true;
   HaloRemovalOptions halo;
   /// Subtract MatcherRoundingBiasPx(algorithm) (StereoBM: 15/512 px) from
-  /// every disparity, on top of reprojection.disparity_offset_px.
+  /// the matcher's disparities (reprojection.matcher_bias_px), on top of
+  /// reprojection.disparity_offset_px.
   bool remove_rounding_bias = true;
   /// Symmetric sub-pixel refinement of every kept disparity (subpixel.h),
   /// with slanted windows by default (subpixel.slanted): it removes the

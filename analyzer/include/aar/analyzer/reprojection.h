@@ -32,9 +32,12 @@ struct ReprojectionOptions {
   /// receiver's own depth spans a few per cent [ratio]. 0 = off (the thesis;
   /// the default preset uses 1.5).
   double max_depth_over_median = 0.0;
-  /// Subtracted from every disparity before eq. 1 (and before sub-pixel
-  /// refinement, as its starting value) [px]. 0 reproduces the thesis's plain
-  /// re-projection; MatcherRoundingBiasPx() is StereoBM's rounding bias.
+  /// The matcher's own mean error (MatcherRoundingBiasPx(): StereoBM's
+  /// rounding), subtracted from its disparities; a refined disparity starts
+  /// from the corrected value and does not carry that error [px].
+  double matcher_bias_px = 0.0;
+  /// Subtracted from every disparity used by eq. 1, refined or not [px]. 0
+  /// reproduces the thesis's plain re-projection.
   double disparity_offset_px = 0.0;
 };
 
