@@ -142,6 +142,11 @@ struct RunFlags {
                     "raise the decimation so that about this many points remain (default preset 4000; 0 = off)");
     cmd->add_flag("--track", track,
                   "match only where the receiver is predicted from the last two frames (whole image when lost)");
+    cmd->add_option("--filter-window", o.filter.window_s,
+                    "temporal filter: at each frame, a constant-velocity line through the estimates of the last S "
+                    "seconds, read at the frame's time (frames.csv's filt_* columns; docs/analysis.md) [s]")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--mask-boom", mask_boom,
                   "remove the boom's pixels before re-projection, drawn from the sidecar's boom angles and the rig "
                   "(datasets with the boom)");

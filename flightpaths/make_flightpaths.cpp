@@ -5,6 +5,7 @@
 //   aar-make-flightpaths --rig scenes/rig.json --out flightpaths/
 //   aar-make-flightpaths --rig scenes/rig-thesis.json --out flightpaths/ --paths conops-level
 //   aar-make-flightpaths --rig scenes/rig.json --out flightpaths/ --paths conops-boom
+//   aar-make-flightpaths --rig scenes/rig.json --out /tmp/125hz --paths conops --time-step 0.008
 
 #include <CLI/CLI.hpp>
 #include <exception>
@@ -30,6 +31,12 @@ int main(int argc, char** argv) {
                  "paths to write: conops, characterization, conops-boom (with scenes/rig.json), conops-level (with "
                  "scenes/rig-thesis.json)")
       ->check(CLI::IsMember({"conops", "characterization", "conops-level", "conops-boom"}));
+  double time_step_s = aar::flightpaths::ConopsOptions{}.time_step_s;
+  app.add_option("--time-step", time_step_s,
+                 "sample spacing of the CONOPS paths [s] (e.g. 0.008 for a 125 Hz camera; the committed files use "
+                 "the default)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 10.0));
   CLI11_PARSE(app, argc, argv);
   try {
     namespace fp = aar::flightpaths;
@@ -43,8 +50,9 @@ int main(int argc, char** argv) {
         aar::WriteFileAtomic(file, aar::FormatFlightPath(characterization));
         std::cout << "wrote " << file.string() << "\n" << fp::DescribeCharacterization(rig, characterization);
       } else {
-        auto conops =
-            name == "conops-level" ? fp::GenerateConops(rig, fp::LevelConopsOptions()) : fp::GenerateConops(rig);
+        fp::ConopsOptions options = name == "conops-level" ? fp::LevelConopsOptions() : fp::ConopsOptions();
+        options.time_step_s = time_step_s;
+        auto conops = fp::GenerateConops(rig, options);
         if (name == "conops-boom") conops = fp::AddBoomSchedule(rig, std::move(conops));
         aar::WriteFileAtomic(file, aar::FormatFlightPath(conops));
         std::cout << "wrote " << file.string() << "\n" << fp::DescribeConops(rig, conops);

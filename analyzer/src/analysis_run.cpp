@@ -79,6 +79,7 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
         {"target_points", f.reprojection.target_points},
         {"disparity_offset_px", f.reprojection.disparity_offset_px}}},
       {"icp", registration},
+      {"filter", {{"model", "constant velocity, causal (pose_filter.h)"}, {"window_s", o.filter.window_s}}},
       {"reference",
        {{"model", o.reference.model},
         {"num_points", r.num_points},
@@ -395,6 +396,7 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
     if (options.progress) progress.Advance();
   }
   if (options.progress) progress.Finish();
+  FilterFrameResults(result.frames, options.filter);
   result.summary = SummarizeFrames(reference.name, result.frames);
   if (options.write_outputs) {
     WriteFrameResults(options.out / kFramesCsvName, result.frames);
@@ -446,7 +448,11 @@ void MergeRuns(const std::vector<std::filesystem::path>& shard_dirs, const std::
     }
     frames_analyzed += analyzed;
   }
-  const std::vector<FrameResult> merged = MergeFrameResults(shards, names);
+  std::vector<FrameResult> merged = MergeFrameResults(shards, names);
+  PoseFilterOptions filter;
+  const nlohmann::json& options = first_run.at("options");
+  if (options.contains("filter")) filter.window_s = options.at("filter").at("window_s").get<double>();
+  FilterFrameResults(merged, filter);
   EnsureWritableDirectory(out);
   const FileLock out_lock = LockOutputFolder(out);
   PrepareOutputFolder(out);

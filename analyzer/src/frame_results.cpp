@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <sstream>
+#include <string>
 
 #include "aar/error.h"
 #include "aar/file_io.h"
@@ -12,9 +13,10 @@
 namespace aar {
 namespace {
 
-constexpr int kValueDecimals = 6;  // seconds, metres, degrees
-constexpr int kTimeDecimals = 3;   // milliseconds
-constexpr size_t kColumns = 40;    // 41 with receiver_occluded_fraction
+constexpr int kValueDecimals = 6;     // seconds, metres, degrees
+constexpr int kTimeDecimals = 3;      // milliseconds
+constexpr size_t kColumns = 52;       // 53 with receiver_occluded_fraction
+constexpr size_t kFilterColumn = 34;  // first filt_est_* column
 
 const std::array<const char*, 6> kTimeColumns = {"ms_load",      "ms_rectify", "ms_disparity",
                                                  "ms_reproject", "ms_icp",     "ms_total"};
@@ -66,6 +68,9 @@ std::string FrameResultsCsvHeader(bool boom) {
   h += ",sensed_points,icp_iterations,icp_converged,icp_rmse_m,icp_inliers";
   h += ",truth_points,truth_off_receiver,truth_off_surface,truth_error_sum_px,truth_error_squared_sum_px2,"
        "truth_error_by_fraction";
+  for (const char* prefix : {"filt_est_", "filt_err_"}) {
+    for (const char* dof : kDofNames) h += std::string(",") + prefix + dof;
+  }
   for (const char* column : kTimeColumns) h += std::string(",") + column;
   if (boom) h += ",receiver_occluded_fraction";
   return h;
@@ -110,6 +115,10 @@ std::string FormatFrameResults(const std::vector<FrameResult>& results) {
           (b ? " " : "") + std::to_string(t.bin_count[b]) + "/" + FormatFixed(t.bin_error_sum_px[b], kValueDecimals);
     }
     field(bins);
+    const SixDof filtered = f.filtered ? PoseValues(*f.filtered) : SixDof{};
+    for (const SixDof* v : {&filtered, &f.filtered_error}) {
+      for (size_t d = 0; d < 6; ++d) field(f.filtered ? FormatFixed((*v)[d], kValueDecimals) : std::string());
+    }
     StageTimes times = f.times;
     for (const double* t : TimeFields(times)) field(FormatFixed(*t, kTimeDecimals));
     if (boom) {
@@ -191,7 +200,19 @@ std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::str
       }
       if (b != kFractionBins || bins >> item) throw Error(column(33) + ": expected 8 count/sum pairs");
     }
-    size_t c = 34;
+    {
+      const bool empty = std::all_of(fields.begin() + kFilterColumn, fields.begin() + kFilterColumn + 12,
+                                     [](const std::string& v) { return v.empty(); });
+      if (!empty) {
+        SixDof filtered;
+        for (size_t d = 0; d < 6; ++d) {
+          filtered[d] = ParseFiniteDouble(fields[kFilterColumn + d], column(kFilterColumn + d));
+          f.filtered_error[d] = ParseFiniteDouble(fields[kFilterColumn + 6 + d], column(kFilterColumn + 6 + d));
+        }
+        f.filtered = PoseFromValues(filtered);
+      }
+    }
+    size_t c = kFilterColumn + 12;
     for (double* t : TimeFields(f.times)) {
       *t = ParseFiniteDouble(fields[c], column(c));
       ++c;
@@ -209,6 +230,28 @@ void WriteFrameResults(const std::filesystem::path& path, const std::vector<Fram
 
 std::vector<FrameResult> ReadFrameResults(const std::filesystem::path& path) {
   return ParseFrameResults(ReadFileBytes(path), path.string());
+}
+
+void FilterFrameResults(std::vector<FrameResult>& frames, const PoseFilterOptions& options) {
+  const auto quantised = [](double value) { return ParseFiniteDouble(FormatFixed(value, kValueDecimals), "filter"); };
+  const auto quantised_pose = [&](const Pose& pose) {
+    SixDof values = PoseValues(pose);
+    for (double& v : values.values) v = quantised(v);
+    return PoseFromValues(values);
+  };
+  std::vector<TimedPose> sequence;
+  sequence.reserve(frames.size());
+  for (const FrameResult& f : frames) {
+    TimedPose timed;
+    timed.time_s = quantised(f.time_s);
+    if (f.ok()) timed.pose = quantised_pose(f.estimate);
+    sequence.push_back(timed);
+  }
+  const std::vector<std::optional<Pose>> filtered = FilterPoses(sequence, options);
+  for (size_t i = 0; i < frames.size(); ++i) {
+    frames[i].filtered = filtered[i];
+    frames[i].filtered_error = filtered[i] ? PoseError(*filtered[i], quantised_pose(frames[i].truth)) : SixDof{};
+  }
 }
 
 std::vector<FrameResult> MergeFrameResults(const std::vector<std::vector<FrameResult>>& shards,

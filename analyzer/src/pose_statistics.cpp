@@ -1,11 +1,13 @@
 #include "aar/analyzer/pose_statistics.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 #include "aar/error.h"
 #include "aar/file_io.h"
@@ -32,7 +34,8 @@ GroupStats Aggregate(const std::vector<FrameResult>& frames, const std::string& 
   double icp_ms_sum = 0.0;
   double total_ms_sum = 0.0;
   std::vector<double> icp_ms;
-  for (const FrameResult& f : frames) {  // frames are sorted by index: fixed summation order
+  for (size_t i = 0; i < frames.size(); ++i) {  // frames are sorted by index: fixed summation order
+    const FrameResult& f = frames[i];
     if (!InGroup(f, group)) continue;
     ++g.frames;
     total_ms_sum += f.times.total_ms;
@@ -50,6 +53,24 @@ GroupStats Aggregate(const std::vector<FrameResult>& frames, const std::string& 
       g.mean_abs_error[d] += std::abs(f.error[d]);
       g.rms_error[d] += f.error[d] * f.error[d];
     }
+    if (f.filtered) {
+      for (size_t d = 0; d < 6; ++d) {
+        g.filtered_mean_abs_error[d] += std::abs(f.filtered_error[d]);
+        g.filtered_rms_error[d] += f.filtered_error[d] * f.filtered_error[d];
+      }
+    }
+    if (i > 0 && frames[i - 1].ok()) {
+      const FrameResult& previous = frames[i - 1];
+      ++g.jitter_pairs;
+      for (size_t d = 0; d < 6; ++d) {
+        const double change = f.error[d] - previous.error[d];
+        g.jitter_rms[d] += change * change;
+        if (f.filtered && previous.filtered) {
+          const double filtered_change = f.filtered_error[d] - previous.filtered_error[d];
+          g.filtered_jitter_rms[d] += filtered_change * filtered_change;
+        }
+      }
+    }
     g.sensed_points_mean += static_cast<double>(f.sensed_points);
     g.icp_iterations_mean += f.icp_iterations;
     g.icp_converged += f.icp_converged ? 1 : 0;
@@ -66,6 +87,13 @@ GroupStats Aggregate(const std::vector<FrameResult>& frames, const std::string& 
   for (size_t d = 0; d < 6; ++d) {
     g.mean_abs_error[d] /= n;
     g.rms_error[d] = std::sqrt(g.rms_error[d] / n);  // thesis eq. 4
+    g.filtered_mean_abs_error[d] /= n;
+    g.filtered_rms_error[d] = std::sqrt(g.filtered_rms_error[d] / n);
+    if (g.jitter_pairs > 0) {
+      const double pairs = static_cast<double>(g.jitter_pairs);
+      g.jitter_rms[d] = std::sqrt(g.jitter_rms[d] / pairs);
+      g.filtered_jitter_rms[d] = std::sqrt(g.filtered_jitter_rms[d] / pairs);
+    }
   }
   g.sensed_points_mean /= n;
   g.icp_iterations_mean /= n;
@@ -185,6 +213,11 @@ nlohmann::json SummaryToJson(const Summary& summary) {
           {"icp_iterations_mean", any ? nlohmann::json(g.icp_iterations_mean) : nlohmann::json(nullptr)},
           {"icp_converged", g.icp_converged},
           {"icp_rmse_m_mean", any ? nlohmann::json(g.icp_rmse_m_mean) : nlohmann::json(nullptr)},
+          {"filtered_mean_abs_error", any ? SixDofJson(g.filtered_mean_abs_error) : nlohmann::json(nullptr)},
+          {"filtered_rms_error", any ? SixDofJson(g.filtered_rms_error) : nlohmann::json(nullptr)},
+          {"jitter_pairs", g.jitter_pairs},
+          {"jitter_rms", g.jitter_pairs > 0 ? SixDofJson(g.jitter_rms) : nlohmann::json(nullptr)},
+          {"filtered_jitter_rms", g.jitter_pairs > 0 ? SixDofJson(g.filtered_jitter_rms) : nlohmann::json(nullptr)},
       };
       times[g.group] = {{"icp_ms_mean", any ? nlohmann::json(g.icp_ms_mean) : nlohmann::json(nullptr)},
                         {"icp_ms_std", any ? nlohmann::json(g.icp_ms_std) : nlohmann::json(nullptr)},
@@ -255,6 +288,32 @@ std::string SummaryToMarkdown(const Summary& summary) {
     }
     out += "\n";
   }
+  out +=
+      "## The temporal filter by region (mean absolute error; jitter: RMS change of the error from one analyzed frame "
+      "to the next)\n\n"
+      "| Region | Model | | X (m) | Y (m) | Z (m) | Roll (deg) | Pitch (deg) | Yaw (deg) | Frames |\n"
+      "|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const std::string& group : regions) {
+    for (const ModelSummary& m : summary.models) {
+      const GroupStats* g = FindGroup(m, group);
+      if (g == nullptr || g->ok == 0) continue;
+      const std::array<std::pair<const char*, const SixDof*>, 4> rows = {
+          std::pair{"error, per frame", &g->mean_abs_error}, std::pair{"error, filtered", &g->filtered_mean_abs_error},
+          std::pair{"jitter, per frame", &g->jitter_rms}, std::pair{"jitter, filtered", &g->filtered_jitter_rms}};
+      for (size_t r = 0; r < rows.size(); ++r) {
+        const bool jitter = r >= 2;
+        if (jitter && g->jitter_pairs == 0) continue;
+        out += "|";
+        AppendCell(out, r == 0 ? group : std::string());
+        AppendCell(out, r == 0 ? DisplayName(m.model) : std::string());
+        AppendCell(out, rows[r].first);
+        for (size_t d = 0; d < 6; ++d) AppendCell(out, FormatFixed((*rows[r].second)[d], 3));
+        AppendCell(out, std::to_string(jitter ? g->jitter_pairs : g->ok));
+        out += "\n";
+      }
+    }
+  }
+  out += "\n";
   out +=
       "## ICP execution time by range (Table 3 layout; machine-dependent)\n\n"
       "| Range | Model | Average ICP time (ms) | Standard deviation (ms) | Frames (ok) |\n"

@@ -135,11 +135,13 @@ TEST(PoseStatistics, CsvRoundTripsAndPutsTimingLast) {
   EXPECT_EQ(read[0].sensed_points, 9003u);
 
   const std::vector<std::string> columns = SplitCsvLine(FrameResultsCsvHeader());
-  ASSERT_EQ(columns.size(), 40u);
+  ASSERT_EQ(columns.size(), 52u);
   EXPECT_EQ(columns[0], "frame");
   EXPECT_EQ(columns[27], "icp_inliers");
-  EXPECT_EQ(columns[33], "truth_error_by_fraction");  // `cut -d, -f1-34` keeps everything but timing
-  for (size_t i = 34; i < columns.size(); ++i) EXPECT_EQ(columns[i].rfind("ms_", 0), 0u) << columns[i];
+  EXPECT_EQ(columns[33], "truth_error_by_fraction");
+  EXPECT_EQ(columns[34], "filt_est_x_m");
+  EXPECT_EQ(columns[45], "filt_err_yaw_deg");  // `cut -d, -f1-46` keeps everything but timing
+  for (size_t i = 46; i < columns.size(); ++i) EXPECT_EQ(columns[i].rfind("ms_", 0), 0u) << columns[i];
   // A failed frame's estimate and error are empty fields.
   const std::string failed_line = text.substr(text.find("\n7,") + 1);
   EXPECT_NE(failed_line.find(",,,,,,,,,,,,"), std::string::npos) << failed_line;
@@ -157,7 +159,7 @@ TEST(PoseStatistics, CsvReaderReportsFileLineAndReason) {
   };
   expect_error("", "empty file");
   expect_error("frame,time\n", "shard0.csv:1: not a frame-results CSV");
-  expect_error(header + "1,2,3\n", "shard0.csv:2: expected 40 columns, found 3");
+  expect_error(header + "1,2,3\n", "shard0.csv:2: expected 52 columns, found 3");
   std::string line = FormatFrameResults({OkFrame(1, 35.0, SixDof{})});
   line = line.substr(line.find('\n') + 1);
   std::string bad = line;
@@ -209,6 +211,51 @@ TEST(PoseStatistics, ShardedSummaryEqualsSingleRun) {
   const Summary single{{SummarizeFrames("shelled", all)}};
   const Summary merged{{SummarizeFrames("shelled", MergeFrameResults(read_back))}};
   EXPECT_EQ(SummaryToJson(single).dump(), SummaryToJson(merged).dump());
+}
+
+// A shard's filter sees only its own frames; the merge filters the merged frames again and then equals, byte for
+// byte, the single run (the filter works on the values as the CSV stores them).
+TEST(PoseStatistics, MergedFilterEqualsSingleRun) {
+  const PoseFilterOptions filter{.window_s = 0.35};  // OkFrame's frames are 0.1 s apart: 4 frames a window
+  std::vector<FrameResult> all;
+  for (size_t i = 0; i < 30; ++i) {
+    const double s = std::sin(0.7 * static_cast<double>(i));
+    all.push_back(OkFrame(i, 33.0 + 0.0123456789 * static_cast<double>(i),
+                          Dof(0.0123456789 * s, 0.01 / (1 + i), -0.03 * s, 0.333333333 * s, 0.7, -0.1 * s)));
+  }
+  all[11].status = "too few sensed points";
+  std::vector<std::vector<FrameResult>> read_back(3);
+  for (size_t shard = 0; shard < 3; ++shard) {
+    std::vector<FrameResult> frames;
+    for (size_t i = shard; i < all.size(); i += 3) frames.push_back(all[i]);
+    FilterFrameResults(frames, filter);
+    read_back[shard] = ParseFrameResults(FormatFrameResults(frames), "shard");
+  }
+  FilterFrameResults(all, filter);
+  std::vector<FrameResult> merged = MergeFrameResults(read_back);
+  EXPECT_NE(FormatFrameResults(merged), FormatFrameResults(all));  // the shards' own filters
+  FilterFrameResults(merged, filter);
+  EXPECT_EQ(FormatFrameResults(merged), FormatFrameResults(all));
+  EXPECT_FALSE(all[11].filtered);
+  ASSERT_TRUE(all[12].filtered);  // right after a failed frame: its own estimate
+  EXPECT_NEAR(all[12].filtered_error[3], all[12].error[3], 1e-6);
+  ASSERT_TRUE(all[20].filtered);  // four frames in the window: smoothed
+  EXPECT_GT(std::abs(all[20].filtered_error[3] - all[20].error[3]), 0.01);
+}
+
+TEST(PoseStatistics, JitterIsTheRmsChangeOfTheErrorBetweenOkNeighbours) {
+  std::vector<FrameResult> frames;
+  for (const double x : {0.0, 0.1, 0.3, 0.0, 0.5, 0.2}) {
+    frames.push_back(OkFrame(frames.size(), 35.0, Dof(x, 0, 0, 0, 0, 0)));
+  }
+  frames[4].status = "too few sensed points";                      // neither 3 -> 4 nor 4 -> 5 is a pair
+  FilterFrameResults(frames, PoseFilterOptions{.window_s = 0.0});  // filtered = per frame
+  const GroupStats& c = Group(SummarizeFrames("shelled", frames), "C");
+  EXPECT_EQ(c.jitter_pairs, 3u);
+  EXPECT_NEAR(c.jitter_rms[0], std::sqrt((0.01 + 0.04 + 0.09) / 3.0), 1e-9);
+  EXPECT_NEAR(c.filtered_jitter_rms[0], c.jitter_rms[0], 1e-9);
+  EXPECT_NEAR(c.filtered_mean_abs_error[0], c.mean_abs_error[0], 1e-9);
+  EXPECT_EQ(c.jitter_rms[1], 0.0);
 }
 
 TEST(PoseStatistics, SummaryJsonKeepsTimingApart) {

@@ -12,6 +12,7 @@
 
 #include "aar/analyzer/calibration.h"
 #include "aar/analyzer/frame_analysis.h"
+#include "aar/analyzer/pose_filter.h"
 #include "aar/analyzer/reference_model.h"
 #include "aar/frame_selection.h"
 
@@ -56,6 +57,7 @@ struct AnalysisRunOptions {
   CalibrationOptions calibration_options;
   Preset preset = Preset::kDefault;  ///< recorded in run.json; `frame` holds its options
   FrameAnalysisOptions frame;
+  PoseFilterOptions filter;  ///< the temporal filter over the analyzed frames (frames.csv's filt_* columns)
   FrameSelection selection;
   bool progress = true;       ///< progress line and per-frame failures on stderr
   bool write_outputs = true;  ///< false for `bench`: time only
@@ -72,7 +74,8 @@ struct AnalysisRunResult {
 AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options);
 
 /// Combines the frames.csv of shard run folders into `out` with the same
-/// frames.csv, summary.json and summary.md a single run gives. Throws when
+/// frames.csv, summary.json and summary.md a single run gives. The temporal
+/// filter runs again over the merged frames (a shard's filter saw only its own). Throws when
 /// the shards differ in model or dataset, or overlap.
 void MergeRuns(const std::vector<std::filesystem::path>& shard_dirs, const std::filesystem::path& out);
 

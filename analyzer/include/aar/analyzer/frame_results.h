@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "aar/analyzer/pose_filter.h"
 #include "aar/analyzer/stereo_truth.h"
 #include "aar/pose.h"
 
@@ -63,6 +64,10 @@ struct FrameResult {
   /// Datasets with the boom and the object mask: the fraction of the
   /// receiver's left-image silhouette the boom hides (ReceiverOccludedFraction).
   std::optional<double> receiver_occluded_fraction;
+  /// The temporal filter's pose (FilterFrameResults) and its error against the
+  /// truth; none where the frame is not ok.
+  std::optional<Pose> filtered;
+  SixDof filtered_error;
 
   /// An estimate exists (ok, or registered but rejected, e.g. by the
   /// residual test); est_* and err_* are then written even when not ok.
@@ -71,14 +76,16 @@ struct FrameResult {
   bool ok() const { return status == "ok"; }
 };
 
-/// The CSV header (one line, no newline). The timing columns ms_* come after
-/// the first 34, so that `cut -d, -f1-34` drops them for comparisons; with
-/// `boom`, one more column receiver_occluded_fraction ends the line.
+/// The CSV header (one line, no newline). The filter's columns filt_est_* and
+/// filt_err_* follow the depth-truth columns; the timing columns ms_* come
+/// after the first 46, so that `cut -d, -f1-46` drops them for comparisons;
+/// with `boom`, one more column receiver_occluded_fraction ends the line.
 std::string FrameResultsCsvHeader(bool boom = false);
 
 /// Header and one line per frame, in the given order. Fixed decimals
 /// (aar::FormatFixed): 6 for seconds, metres and degrees, 3 for milliseconds.
-/// est_* and err_* are empty for frames that are not ok. The column
+/// est_* and err_* are empty for frames that are not ok (and have no
+/// estimate), filt_est_* and filt_err_* for frames without a filtered pose. The column
 /// receiver_occluded_fraction is written when any frame has the value (empty
 /// where a frame has none).
 std::string FormatFrameResults(const std::vector<FrameResult>& results);
@@ -90,6 +97,12 @@ std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::str
 /// Atomic write / read of a results CSV; errors name the file.
 void WriteFrameResults(const std::filesystem::path& path, const std::vector<FrameResult>& results);
 std::vector<FrameResult> ReadFrameResults(const std::filesystem::path& path);
+
+/// Sets every frame's filtered pose and error: FilterPoses over the ok frames'
+/// estimates in the given order (frame order), each value quantised as the CSV
+/// stores it first, so that filtering the frames read back from a CSV (a
+/// merge) gives the same result as filtering them in the run.
+void FilterFrameResults(std::vector<FrameResult>& frames, const PoseFilterOptions& options);
 
 /// Concatenates per-shard results sorted by frame index. Throws aar::Error
 /// naming the frame and both shards (by `shard_names` when given, else by

@@ -35,6 +35,16 @@ struct GroupStats {
   size_t with_estimate = 0;
   SixDof mean_abs_error_all;
   StereoTruthStats stereo_truth;  ///< summed over all frames of the group
+  /// The temporal filter (pose_filter.h) over the ok frames.
+  SixDof filtered_mean_abs_error;
+  SixDof filtered_rms_error;
+  /// Jitter: RMS of the change of the error from the previous analyzed frame to
+  /// this one, over the frames of the group that are ok and follow an ok frame
+  /// (`jitter_pairs` of them); the truth's own motion cancels, the noise stays
+  /// (white noise of standard deviation s gives s sqrt 2).
+  size_t jitter_pairs = 0;
+  SixDof jitter_rms;
+  SixDof filtered_jitter_rms;
 };
 
 /// All groups of one reference model, in the fixed order all, A, B, C, 20-60, 60-110.
@@ -55,6 +65,8 @@ struct Summary {
 ModelSummary SummarizeFrames(const std::string& model, const std::vector<FrameResult>& frames);
 
 /// summary.json: {"schema": "aar-summary/1", "models": {model: {group: stats}},
+/// (stats include filtered_mean_abs_error, filtered_rms_error, jitter_pairs,
+/// jitter_rms, filtered_jitter_rms)
 /// "timing": {model: {group: {icp_ms_mean, icp_ms_std, total_ms_mean}}}}.
 /// Everything outside "timing" is deterministic; statistics of groups with no
 /// ok frame are null.
@@ -64,7 +76,9 @@ nlohmann::json SummaryToJson(const Summary& summary);
 /// per range bin (Tables 1, 2) and per region (Tables 4, 5), rows = models
 /// (plus "Difference (%)" = (full - shelled) / full when both are present),
 /// columns X (m) Y (m) Z (m) Roll (deg) Pitch (deg) Yaw (deg); then ICP time
-/// mean and standard deviation per range bin (Table 3) last.
+/// mean and standard deviation per range bin (Table 3) last; before it, the
+/// temporal filter's table per region (mean absolute error and jitter, per
+/// frame and filtered).
 std::string SummaryToMarkdown(const Summary& summary);
 
 }  // namespace aar
