@@ -72,7 +72,8 @@ struct RunFlags {
   std::optional<double> max_correspondence_m, disparity_offset_px, disparity_noise_px, gate_sigmas, model_pull_scale_m;
   std::optional<size_t> keep_one_in, target_points, model_queries;
   std::optional<bool> halo, subpixel, rounding, widen, balance, full_surface;
-  bool truth_cloud = false, track = false, mask_boom = false, mask_propellers = false;
+  bool truth_cloud = false, track = false, mask_boom = false, no_mask_boom = false, mask_propellers = false,
+       no_mask_propellers = false;
   double truth_cloud_noise_px = 0.0;
   int boom_margin_px = aar::BoomMaskOptions{}.margin_px;
   std::vector<size_t> dump_frames;
@@ -149,12 +150,14 @@ struct RunFlags {
         ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--mask-boom", mask_boom,
                   "remove the boom's pixels before re-projection, drawn from the sidecar's boom angles and the rig "
-                  "(datasets with the boom)");
+                  "(default preset: on for datasets with the boom)")
+        ->excludes(cmd->add_flag("--no-mask-boom", no_mask_boom, "keep the boom's pixels"));
     cmd->add_option("--boom-margin", boom_margin_px, "--mask-boom: grow the drawn boom by this many pixels")
         ->capture_default_str();
     cmd->add_flag("--mask-propellers", mask_propellers,
                   "drop the sensed points inside the receiver's two propeller discs under the registered pose and "
-                  "register again, three times (datasets rendered with --propellers)");
+                  "register again, up to three times (default preset: on for datasets whose propellers turn)")
+        ->excludes(cmd->add_flag("--no-mask-propellers", no_mask_propellers, "keep the propellers' points"));
     cmd->add_option("--truth-cloud-noise", truth_cloud_noise_px,
                     "diagnosis, with --truth-cloud: seeded Gaussian disparity noise along each ideal point's ray [px]")
         ->capture_default_str();
@@ -226,9 +229,9 @@ struct RunFlags {
     f.register_truth_cloud = truth_cloud;
     f.truth_cloud_noise_px = truth_cloud_noise_px;
     f.track_region = track;
-    f.mask_boom = mask_boom;
+    if (mask_boom || no_mask_boom) o.mask_boom = mask_boom;
     f.boom_mask.margin_px = boom_margin_px;
-    f.mask_propellers = mask_propellers;
+    if (mask_propellers || no_mask_propellers) o.mask_propellers = mask_propellers;
     f.Check();
     o.dump_frames = dump_frames;
     // Shards (Slurm array tasks) get folders of their own, never one another's.

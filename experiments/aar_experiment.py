@@ -14,7 +14,9 @@ dataset manifest hashes, software versions and the machine.
   realism           beyond the thesis (issue 9): lens distortion, the sensor
                     model, the boom, terrain, propellers and motion blur (when
                     aar-render has them), each alone and all together
-  all               the five, in that order (conops on both geometries; with
+  tracking          beyond the thesis: the temporal filter on consecutive
+                    frames of a 125 Hz camera with a realistic sensor
+  all               the six, in that order (conops on both geometries; with
                     --quick on the default one unless --geometry thesis)
 
 Datasets are rendered into --datasets (default datasets/) and reused: calling

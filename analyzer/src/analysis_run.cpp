@@ -261,10 +261,30 @@ void WriteCalibrationOutputs(const std::filesystem::path& out, const CalibrateOu
   WriteJsonFile(out / kCalibrationReportName, calibration.report);
 }
 
-AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options) {
+namespace {
+
+// The options with the masks decided: as asked, or, when not asked, on with the default preset for what the
+// dataset has.
+AnalysisRunOptions WithMasks(const AnalysisRunOptions& requested, const Manifest& manifest) {
+  AnalysisRunOptions options = requested;
+  const bool defaults = options.preset == Preset::kDefault;
+  const nlohmann::json inputs = manifest.json.value("inputs", nlohmann::json::object());
+  const bool has_boom = inputs.is_object() && inputs.contains("boom_model");
+  const nlohmann::json frames = manifest.json.value("frames", nlohmann::json::object());
+  const bool propellers_turn =
+      frames.is_object() && frames.contains("propellers") && frames["propellers"].value("rpm", 0.0) > 0.0;
+  options.frame.mask_boom = options.mask_boom.value_or(defaults && has_boom);
+  options.frame.mask_propellers = options.mask_propellers.value_or(defaults && propellers_turn);
+  return options;
+}
+
+}  // namespace
+
+AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   // Everything that makes the run impossible fails here, before any output.
-  options.frame.Check();
-  const Manifest manifest = ReadManifest(options.dataset);
+  requested.frame.Check();
+  const Manifest manifest = ReadManifest(requested.dataset);
+  const AnalysisRunOptions options = WithMasks(requested, manifest);
   const std::string manifest_path = (options.dataset / kManifestName).string();
   if (manifest.frame_count == 0) throw Error(manifest_path + ": dataset has no frames");
   options.selection.CheckWithin(manifest.frame_count, manifest_path);

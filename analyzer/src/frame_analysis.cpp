@@ -281,12 +281,16 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
     start = std::chrono::steady_clock::now();
     icp = Register(cloud.points_in_tanker, seed);
     if (options_.mask_propellers) {
-      for (int pass = 0; pass < options_.propeller_mask.passes; ++pass) {
-        const PropellerMaskOptions& m = options_.propeller_mask;
-        icp = RegisterFrom(OutsidePropellerDiscs(cloud.points_in_tanker, icp.tanker_from_receiver,
-                                                 tanker_from_rect_left_.translation(), m,
-                                                 pass == 0 ? m.first_axial_half_width_m : m.axial_half_width_m),
-                           icp.tanker_from_receiver);
+      const PropellerMaskOptions& m = options_.propeller_mask;
+      for (int pass = 0; pass < m.passes; ++pass) {
+        const double axial_half_width_m = pass == 0 ? m.first_axial_half_width_m : m.axial_half_width_m;
+        const Registered masked =
+            RegisterFrom(OutsidePropellerDiscs(cloud.points_in_tanker, icp.tanker_from_receiver,
+                                               tanker_from_rect_left_.translation(), m, axial_half_width_m),
+                         icp.tanker_from_receiver);
+        // A registration that moves the discs out of the mask that made it is not trusted: keep the last pose.
+        if (!PropellerMaskAgrees(icp.tanker_from_receiver, masked.tanker_from_receiver, axial_half_width_m)) break;
+        icp = masked;
       }
     }
     r.times.icp_ms += MillisecondsSince(start);

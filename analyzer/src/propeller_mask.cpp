@@ -1,5 +1,8 @@
 #include "aar/analyzer/propeller_mask.h"
 
+#include <cmath>
+#include <numbers>
+
 #include "aar/error.h"
 #include "aar/propeller.h"
 
@@ -42,6 +45,24 @@ std::vector<Eigen::Vector3d> OutsidePropellerDiscs(const std::vector<Eigen::Vect
   }
   if (removed != nullptr) *removed = sensed_in_tanker.size() - kept.size();
   return kept;
+}
+
+bool PropellerMaskAgrees(const Eigen::Isometry3d& masked_at, const Eigen::Isometry3d& registered,
+                         double axial_half_width_m) {
+  // The registered pose seen from the masked one, in the receiver frame, whose x is the discs' axis.
+  const Eigen::Isometry3d moved = masked_at.inverse() * registered;
+  constexpr int kRimPoints = 16;
+  const double radius = 0.5 * kPropellerDiameterM;
+  for (const Eigen::Vector3d& hub : kPropellerHubsInReceiver) {
+    const Eigen::Vector3d hub_moved = moved * hub - hub;
+    if (std::hypot(hub_moved.y(), hub_moved.z()) > radius) return false;
+    for (int k = 0; k < kRimPoints; ++k) {
+      const double angle = 2.0 * std::numbers::pi * k / kRimPoints;
+      const Eigen::Vector3d rim = hub + radius * Eigen::Vector3d(0.0, std::cos(angle), std::sin(angle));
+      if (std::abs((moved * rim - rim).x()) > axial_half_width_m) return false;
+    }
+  }
+  return true;
 }
 
 }  // namespace aar

@@ -12,5 +12,6 @@ run by experiments/aar_experiment.py.
     msaa              thesis Experiment 3
     determinism       thesis Appendix A
     realism           beyond the thesis: each realism effect alone and together (with realism_report)
+    tracking          beyond the thesis: the temporal filter at a camera's rate (125 Hz)
   cli               the command line: a subcommand per registered experiment, and `all`
 """

@@ -24,7 +24,7 @@ def read_frames(run_dir):
             for k, v in r.items():
                 if k == "truth_error_by_fraction":  # count/sum pairs (docs/analysis.md)
                     continue
-                if k.startswith(("err_", "est_", "truth_", "ms_")) or k in ("sensed_points", "icp_rmse_m"):
+                if k.startswith(("err_", "est_", "truth_", "ms_", "filt_")) or k in ("sensed_points", "icp_rmse_m"):
                     row[k] = float(v) if v not in ("", None) else None
             rows.append(row)
     return rows

@@ -29,8 +29,8 @@ double Difference(const std::array<double, 6>& a, const std::array<double, 6>& b
 Pose Manoeuvre(double t) {
   const double two_pi = 2.0 * std::numbers::pi;
   Pose p;
-  p.translation_m = Eigen::Vector3d(-35.0 + 0.4 * t + 0.3 * std::sin(two_pi * t / 4.0), 0.1 * std::sin(two_pi * t / 3.0),
-                                    -18.0 + 0.2 * t);
+  p.translation_m = Eigen::Vector3d(-35.0 + 0.4 * t + 0.3 * std::sin(two_pi * t / 4.0),
+                                    0.1 * std::sin(two_pi * t / 3.0), -18.0 + 0.2 * t);
   p.roll_deg = 2.0 * std::sin(two_pi * t / 5.0);
   p.pitch_deg = 1.0 + 1.5 * std::sin(two_pi * t / 2.5 + 1.0);
   p.yaw_deg = WrapDegrees(179.5 + 0.8 * t);

@@ -42,6 +42,31 @@ TEST(PropellerMask, DropsPointsOnAndBehindTheDiscsAndKeepsTheRest) {
   EXPECT_EQ(OutsidePropellerDiscs({behind_but_clear}, tanker_from_receiver, camera, options, 0.6).size(), 1u);
 }
 
+// A registration from a masked cloud is kept while it leaves the discs in the mask that made it.
+TEST(PropellerMask, AgreesWhileTheDiscsStayInTheirMask) {
+  Pose pose;
+  pose.translation_m = Eigen::Vector3d(-120.0, 1.0, -40.0);
+  pose.yaw_deg = 3.0;
+  const Eigen::Isometry3d at = IsometryFromPose(pose);
+  const auto moved = [&](const Pose& change) { return at * IsometryFromPose(change); };
+  Pose along;  // along the axis (the receiver's x)
+  along.translation_m.x() = 0.5;
+  EXPECT_TRUE(PropellerMaskAgrees(at, moved(along), 0.6));
+  EXPECT_FALSE(PropellerMaskAgrees(at, moved(along), 0.4));
+  Pose across;  // the hubs 1.3 m down: off the discs' 1.25 m radius
+  across.translation_m.z() = -1.3;
+  EXPECT_FALSE(PropellerMaskAgrees(at, moved(across), 2.0));
+  across.translation_m.z() = -1.0;
+  EXPECT_TRUE(PropellerMaskAgrees(at, moved(across), 2.0));
+  Pose yawed;  // 10 deg of yaw: the hubs 2.6 m out move 0.45 m along the axis, the rims up to 0.67 m
+  yawed.yaw_deg = 10.0;
+  EXPECT_TRUE(PropellerMaskAgrees(at, moved(yawed), 2.0));
+  EXPECT_FALSE(PropellerMaskAgrees(at, moved(yawed), 0.6));
+  Pose flipped;  // a registration that turned the receiver round
+  flipped.yaw_deg = 170.0;
+  EXPECT_FALSE(PropellerMaskAgrees(at, moved(flipped), 3.0));
+}
+
 TEST(PropellerMask, CheckNamesTheInvalidField) {
   PropellerMaskOptions o;
   o.passes = 0;

@@ -56,7 +56,12 @@ struct AnalysisRunOptions {
   ReferenceRequest reference;
   CalibrationOptions calibration_options;
   Preset preset = Preset::kDefault;  ///< recorded in run.json; `frame` holds its options
-  FrameAnalysisOptions frame;
+  FrameAnalysisOptions frame;        ///< its mask_boom and mask_propellers are set from the two below
+  /// Remove the boom's pixels / the propellers' points (FrameAnalysisOptions::mask_boom, mask_propellers);
+  /// none: on with the default preset when the dataset has them (manifest.json's inputs.boom_model;
+  /// frames.propellers with rpm > 0), off otherwise.
+  std::optional<bool> mask_boom;
+  std::optional<bool> mask_propellers;
   PoseFilterOptions filter;  ///< the temporal filter over the analyzed frames (frames.csv's filt_* columns)
   FrameSelection selection;
   bool progress = true;       ///< progress line and per-frame failures on stderr

@@ -45,4 +45,15 @@ std::vector<Eigen::Vector3d> OutsidePropellerDiscs(const std::vector<Eigen::Vect
                                                    const PropellerMaskOptions& options, double axial_half_width_m,
                                                    size_t* removed = nullptr);
 
+/// Whether the pose `registered`, found from the cloud masked with the
+/// receiver at `masked_at`, still puts the discs in that mask: along the
+/// axis, every point of both discs' rims within `axial_half_width_m` (the
+/// cylinder's half-length) of where the mask put it, and across it, each
+/// hub within a disc radius (the mask still covers the disc's centre). A
+/// registration that moves a disc off its mask removed points by a pose it
+/// no longer agrees with: the first estimate too far off, or too few points
+/// left to hold the pose, as at long range where it flips.
+bool PropellerMaskAgrees(const Eigen::Isometry3d& masked_at, const Eigen::Isometry3d& registered,
+                         double axial_half_width_m);
+
 }  // namespace aar
