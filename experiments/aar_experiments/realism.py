@@ -10,8 +10,8 @@ analyzed with the default preset and the shelled model:
     the baseline's boards (the effect does not change the board images);
   - with the dataset's exact calibration (calibration_ideal.yaml): the
     imaging alone, without the calibration's error;
-  - for the boom and the propellers, also with the analyzer's masks (`aar-analyze run --mask-boom`,
-    `--mask-propellers`).
+  - for the boom and the propellers, which the default preset masks, also
+    without the masks (`aar-analyze run --no-mask-boom`, `--no-mask-propellers`).
 
 The sensor block is also split into its parts (noise alone, blur alone, the
 Bayer mosaic alone, each through an otherwise noise-free sensor), and every
@@ -63,10 +63,10 @@ class Effect:
     path: str = CONOPS        # flight path
     render: tuple = ()        # more aar-render render flags
     needs: tuple = ()         # aar-render render flags it needs (left out when not listed by --help)
-    masks: tuple = ()         # also analyzed with these aar-analyze masks (--mask-boom, --mask-propellers)
+    unmask: tuple = ()        # also analyzed with these aar-analyze flags (--no-mask-boom, --no-mask-propellers)
     suffix: str = ""          # appended to the dataset's name (a dataset per set of render flags)
     dataset: Path = None      # set by run()
-    runs: dict = field(default_factory=dict)  # variant ("boards", "masked", "ideal") -> run folder
+    runs: dict = field(default_factory=dict)  # variant ("boards", "unmasked", "ideal") -> run folder
 
 
 def render_flags(ctx):
@@ -136,14 +136,14 @@ def effect_table(ctx, flags):
                rig=sensor_part_rig(ctx, "blur")),
         Effect("sensor-mosaic", "the sensor's RGGB mosaic and bilinear demosaicing alone (a noise-free sensor)",
                rig=sensor_part_rig(ctx, "mosaic")),
-        Effect("boom", f"the refueling boom, posed by `{BOOM_PATH}`", path=BOOM_PATH, masks=("--mask-boom",)),
+        Effect("boom", f"the refueling boom, posed by `{BOOM_PATH}`", path=BOOM_PATH, unmask=("--no-mask-boom",)),
         Effect("terrain", "terrain behind the receiver (`--background terrain`)", render=("--background", "terrain")),
         Effect("motion-blur", "motion blur: a 4 ms exposure (`--shutter-ms 4`)", render=shutter, needs=SHUTTER[:1]),
         Effect("propellers", "spinning propellers, 1700 rpm, 4 ms exposure", render=PROPELLERS + shutter,
-               needs=(PROPELLERS[0], SHUTTER[0]), masks=("--mask-propellers",)),
+               needs=(PROPELLERS[0], SHUTTER[0]), unmask=("--no-mask-propellers",)),
         Effect("all", "all together: lens and sensor (`rig-all.json`), boom, terrain"
                + "".join(f", `{' '.join(f)}`" for f in optional), rig=combined_rig(ctx), path=BOOM_PATH,
-               render=together, masks=("--mask-boom",) + (("--mask-propellers",) if PROPELLERS in optional else ()),
+               render=together, unmask=("--no-mask-boom",) + (("--no-mask-propellers",) if PROPELLERS in optional else ()),
                suffix="".join("-" + f[0][2:] for f in optional)),
     ]
     used = [e for e in table if all(f in flags for f in e.needs)]
@@ -168,9 +168,9 @@ def measure(ctx, effect, msaa, sel, baseline_calibration):
     effect.runs["boards"] = analyze(ctx, effect.key, ds, "shelled", sel, calibration=yaml, extra=PRESET)
     effect.runs["ideal"] = analyze(ctx, f"{effect.key}-ideal", ds, "shelled", sel,
                                    calibration=ds / "calibration_ideal.yaml", extra=PRESET)
-    if effect.masks:
-        effect.runs["masked"] = analyze(ctx, f"{effect.key}-masked", ds, "shelled", sel, calibration=yaml,
-                                        extra=PRESET + tuple(effect.masks))
+    if effect.unmask:
+        effect.runs["unmasked"] = analyze(ctx, f"{effect.key}-unmasked", ds, "shelled", sel, calibration=yaml,
+                                          extra=PRESET + tuple(effect.unmask))
     return cal
 
 

@@ -11,8 +11,8 @@ from .runner import ROOT, rel, selection_text
 from .thesis import COMPONENT_HEADERS, REGION_RANGES, REGIONS
 
 # Analysis variants, in table order: key in results' "variants", label.
-VARIANTS = (("boards", "calibrated"), ("masked", "calibrated, masked"), ("ideal", "exact calibration"))
-SHORT = {"boards": "", "masked": ", masked", "ideal": ", exact"}
+VARIANTS = (("boards", "calibrated"), ("unmasked", "calibrated, no masks"), ("ideal", "exact calibration"))
+SHORT = {"boards": "", "unmasked": ", no masks", "ideal": ", exact"}
 
 
 def ratio_to_baseline(results, key, variant, region):
@@ -102,7 +102,7 @@ def _region_section(ctx, rep, results, region):
     rep.table(["Effect", "Analysis"] + list(COMPONENT_HEADERS) + ["Frames ok/all", f"> {results['gross_deg']:g} deg"],
               rows, ["---", "---"] + ["---:"] * 8)
     series = []
-    cats = [(key, variant) for key in results["effects"] if key != "baseline" for variant in ("boards", "masked")
+    cats = [(key, variant) for key in results["effects"] if key != "baseline" for variant in ("boards", "unmasked")
             if region in results["effects"][key]["variants"].get(variant, {})]
     for i, header in enumerate(COMPONENT_HEADERS):
         series.append((header.split(" ")[0], [ratio_to_baseline(results, k, v, region)[i] for k, v in cats]))
@@ -147,10 +147,11 @@ def write(ctx, effects, left_out, results, sel):
           "**Calibrated**: with the calibration from the 12 board pairs rendered through the effect's rig (the "
           "lens, sensor and all-together effects; the others do not change the board images and use the "
           "baseline's). **Exact calibration**: with the dataset's `calibration_ideal.yaml`, the imaging alone. "
-          "In parentheses: the ratio to the baseline's error with the same kind of calibration. **Masked**: the "
-          "boom's datasets analyzed with `--mask-boom` (boom pixels removed from the tanker's own boom angles and "
-          "the rig), the propellers' with `--mask-propellers` (points on and behind the discs dropped under the "
-          "registered pose), the all-together dataset with both. All numbers are in `results.json` beside this report.")
+          "In parentheses: the ratio to the baseline's error with the same kind of calibration. The default "
+          "preset masks the boom of a dataset that has one (boom pixels removed from the tanker's own boom angles "
+          "and the rig) and the propellers of a dataset whose propellers turn (points on and behind the discs "
+          "dropped under the registered pose; docs/analysis.md). **No masks**: those datasets analyzed again with "
+          "`--no-mask-boom` and `--no-mask-propellers`. All numbers are in `results.json` beside this report.")
     _effects_section(rep, effects, left_out, results)
     _calibration_section(ctx, rep, results)
     rep.h("Pose error per region")
