@@ -6,11 +6,13 @@
 //   aar-make-flightpaths --rig scenes/rig-thesis.json --out flightpaths/ --paths conops-level
 //   aar-make-flightpaths --rig scenes/rig.json --out flightpaths/ --paths conops-boom
 //   aar-make-flightpaths --rig scenes/rig.json --out /tmp/125hz --paths conops --time-step 0.008
+//   aar-make-flightpaths --rig scenes/rig.json --out /tmp/heldout --paths conops --variant 7
 
 #include <CLI/CLI.hpp>
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +39,11 @@ int main(int argc, char** argv) {
                  "the default)")
       ->capture_default_str()
       ->check(CLI::Range(0.001, 10.0));
+  std::optional<uint64_t> variant;
+  app.add_option("--variant", variant,
+                 "write the seeded variant SEED of the CONOPS approach (conops_variant.h) as conops-variant-SEED.csv "
+                 "(with --paths conops-boom: conops-boom-variant-SEED.csv, the boom's schedule on it), for held-out "
+                 "tests");
   CLI11_PARSE(app, argc, argv);
   try {
     namespace fp = aar::flightpaths;
@@ -45,6 +52,18 @@ int main(int argc, char** argv) {
     aar::EnsureWritableDirectory(out);
     for (const std::string& name : paths) {
       const std::filesystem::path file = out / (name + ".csv");
+      if (variant) {
+        if (name != "conops" && name != "conops-boom") {
+          throw aar::Error("--variant: only the conops and conops-boom paths have variants, not " + name);
+        }
+        const std::string stem = name + "-variant-" + std::to_string(*variant);
+        auto samples = fp::GenerateConops(rig, fp::ConopsVariantOptions(rig, *variant, time_step_s));
+        if (name == "conops-boom") samples = fp::AddBoomSchedule(rig, std::move(samples));
+        const std::filesystem::path variant_file = out / (stem + ".csv");
+        aar::WriteFileAtomic(variant_file, aar::FormatFlightPath(samples));
+        std::cout << "wrote " << variant_file.string() << "\n" << fp::DescribeConops(rig, samples);
+        continue;
+      }
       if (name == "characterization") {
         const auto characterization = fp::GenerateCharacterization(rig);
         aar::WriteFileAtomic(file, aar::FormatFlightPath(characterization));

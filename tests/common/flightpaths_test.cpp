@@ -157,6 +157,29 @@ TEST(FlightPaths, GenerationIsDeterministic) {
             FormatFlightPath(fp::GenerateCharacterization(Rig())));
 }
 
+// Held-out variants: a seed gives one path, always; seeds differ; every region and both holds are there, and the
+// receiver stays in view.
+TEST(FlightPaths, ConopsVariantsAreSeededAndStayInView) {
+  const std::string first = FormatFlightPath(fp::GenerateConops(Rig(), fp::ConopsVariantOptions(Rig(), 1)));
+  EXPECT_EQ(first, FormatFlightPath(fp::GenerateConops(Rig(), fp::ConopsVariantOptions(Rig(), 1))));
+  EXPECT_NE(first, FormatFlightPath(fp::GenerateConops(Rig(), fp::ConopsVariantOptions(Rig(), 2))));
+  EXPECT_NE(first, FormatFlightPath(fp::GenerateConops(Rig())));
+  for (const uint64_t seed : {1u, 2u, 3u, 4u}) {
+    const std::vector<FlightSample> path = fp::GenerateConops(Rig(), fp::ConopsVariantOptions(Rig(), seed));
+    std::map<std::string, int> per_region;
+    for (const FlightSample& s : path) {
+      ++per_region[RegionForRange(Range(s))];
+      ASSERT_TRUE(fp::ComputeBoxVisibility(Rig(), fp::ReceiverBox{}, s.tanker_from_receiver).FullyInBoth())
+          << "seed " << seed << " t " << s.time_s;
+    }
+    for (const char* region : {"A", "B", "C"}) EXPECT_GT(per_region[region], 50) << "seed " << seed << region;
+    const double contact_range_m = (Rig().contact_position_m - Rig().left.tanker_from_camera.translation()).norm();
+    EXPECT_NEAR(Range(path.back()), contact_range_m, 0.05) << "seed " << seed;  // ends at the contact position
+    const std::vector<fp::Hold> holds = fp::FindHolds(Rig(), path);
+    EXPECT_GE(holds.size(), 3u) << "seed " << seed;
+  }
+}
+
 TEST(FlightPaths, CommittedCsvFilesMatchGenerator) {
   const std::vector<std::pair<std::string, std::vector<FlightSample>>> files = {
       {"conops.csv", fp::GenerateConops(Rig())},
