@@ -16,7 +16,10 @@ dataset manifest hashes, software versions and the machine.
                     aar-render has them), each alone and all together
   tracking          beyond the thesis: the temporal filter on consecutive
                     frames of a 125 Hz camera with a realistic sensor
-  all               the six, in that order (conops on both geometries; with
+  heldout           beyond the thesis: the defaults on realistic scenarios
+                    drawn from fixed seeds (path, rig, lens, sensor,
+                    background, tanker attitude, propellers, boom)
+  all               the seven, in that order (conops on both geometries; with
                     --quick on the default one unless --geometry thesis)
 
 Datasets are rendered into --datasets (default datasets/) and reused: calling

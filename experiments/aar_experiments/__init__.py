@@ -13,5 +13,6 @@ run by experiments/aar_experiment.py.
     determinism       thesis Appendix A
     realism           beyond the thesis: each realism effect alone and together (with realism_report)
     tracking          beyond the thesis: the temporal filter at a camera's rate (125 Hz)
+    heldout           beyond the thesis: realistic scenarios drawn from fixed seeds
   cli               the command line: a subcommand per registered experiment, and `all`
 """

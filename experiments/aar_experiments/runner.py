@@ -208,14 +208,16 @@ def _render(ctx, step, argv, dataset):
     ctx.run(step, argv)
 
 
-def render_calib(ctx, dataset, msaa, rig=None):
-    """The thesis's 12 calibration board pairs (`--far-boards none`: aar-render's default adds the
-    twelve again at 30 and 45 m; the experiments keep the thesis's set so that their tables stay
-    comparable with it); `rig` (a rig JSON, repository-relative) other than aar-render's default
-    scenes/rig.json must be the one the dataset's frames are rendered with."""
-    _render(ctx, f"render calibration boards into {dataset.name} (x{msaa})",
-            [ctx.render, "calib", dataset, "--msaa", msaa, "--far-boards", "none"] + (["--rig", rig] if rig else []),
-            dataset)
+THESIS_BOARDS = ("--far-boards", "none")
+
+
+def render_calib(ctx, dataset, msaa, rig=None, boards=THESIS_BOARDS):
+    """Calibration board pairs: by default the thesis's 12 (`--far-boards none`: aar-render's default adds the
+    twelve again at 30 and 45 m; the thesis's experiments keep the thesis's set so that their tables stay
+    comparable with it), else the `aar-render calib` flags `boards`; `rig` (a rig JSON) other than aar-render's
+    default scenes/rig.json must be the one the dataset's frames are rendered with."""
+    _render(ctx, f"render calibration boards into {dataset.name} (x{msaa}{', ' + ' '.join(boards) if boards else ''})",
+            [ctx.render, "calib", dataset, "--msaa", msaa, *boards] + (["--rig", rig] if rig else []), dataset)
 
 
 def render_frames(ctx, dataset, msaa, flight_path, selection, extra=()):
