@@ -4,29 +4,15 @@
 #include <string>
 
 #include "aar/error.h"
+#include "aar/random_stream.h"
 #include "receiver_box.h"
 
 namespace aar::flightpaths {
 namespace {
 
-// splitmix64: a small, portable stream (the same numbers on every platform and compiler).
-class Stream {
- public:
-  explicit Stream(uint64_t seed) : state_(seed) {}
-  double Uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(Next() >> 11) * 0x1.0p-53; }
-
- private:
-  uint64_t Next() {
-    uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  uint64_t state_;
-};
-
-std::vector<Sinusoid> Sinusoids(Stream& s, double slow_lo, double slow_hi, double slow_period_lo, double slow_period_hi,
-                                double fast_lo, double fast_hi, double fast_period_lo, double fast_period_hi) {
+std::vector<Sinusoid> Sinusoids(RandomStream& s, double slow_lo, double slow_hi, double slow_period_lo,
+                                double slow_period_hi, double fast_lo, double fast_hi, double fast_period_lo,
+                                double fast_period_hi) {
   std::vector<Sinusoid> terms(2);
   terms[0] = {s.Uniform(slow_lo, slow_hi), s.Uniform(slow_period_lo, slow_period_hi),
               s.Uniform(0.0, 2.0 * std::numbers::pi)};
@@ -35,7 +21,7 @@ std::vector<Sinusoid> Sinusoids(Stream& s, double slow_lo, double slow_hi, doubl
   return terms;
 }
 
-ConopsOptions Draw(Stream& s, double time_step_s) {
+ConopsOptions Draw(RandomStream& s, double time_step_s) {
   ConopsOptions o;
   o.time_step_s = time_step_s;
   o.start_range_m = s.Uniform(160.0, 174.9);
@@ -65,7 +51,7 @@ ConopsOptions Draw(Stream& s, double time_step_s) {
 }  // namespace
 
 ConopsOptions ConopsVariantOptions(const StereoRig& rig, uint64_t seed, double time_step_s) {
-  Stream stream(seed);
+  RandomStream stream(seed);
   const ReceiverBox box;
   constexpr int kDraws = 100;
   for (int draw = 0; draw < kDraws; ++draw) {

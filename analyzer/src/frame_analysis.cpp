@@ -11,6 +11,7 @@
 #include "aar/error.h"
 #include "aar/file_io.h"
 #include "aar/progress.h"
+#include "aar/random_stream.h"
 #include "aar/region.h"
 #include "aar/text.h"
 
@@ -53,19 +54,6 @@ cv::Mat ReadImage(const std::filesystem::path& dataset, const FileRef& ref,
       cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), flags);
   if (image.empty()) throw Error(path.string() + ": cannot decode image");
   return image;
-}
-
-// A standard normal deviate from a splitmix64 stream (Box-Muller), the same
-// on every platform, unlike std::normal_distribution.
-double StandardNormal(uint64_t& state) {
-  const auto next = [&state] {
-    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;  // [0, 1)
-  };
-  const double u1 = 1.0 - next(), u2 = next();  // u1 in (0, 1]
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * 3.14159265358979323846 * u2);
 }
 
 }  // namespace
@@ -265,11 +253,11 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
           CompareWithTruth(cloud.pixels, *truth, calibration_, {}, options_.register_truth_cloud ? &ideal : nullptr);
       if (options_.register_truth_cloud) {
         cloud.points_in_tanker.clear();
-        uint64_t state = 0x9E3779B97F4A7C15ull * (r.frame + 1);
+        RandomStream noise(0x9E3779B97F4A7C15ull * (r.frame + 1));
         for (Eigen::Vector3d p : ideal) {
           if (options_.truth_cloud_noise_px > 0.0) {
             const double d = focal_times_baseline_px_m_ / p.z();
-            p *= d / (d + options_.truth_cloud_noise_px * StandardNormal(state));
+            p *= d / (d + options_.truth_cloud_noise_px * noise.Normal());
           }
           cloud.points_in_tanker.push_back(tanker_from_rect_left_ * p);
         }

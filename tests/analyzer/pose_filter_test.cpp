@@ -10,6 +10,8 @@
 #include <numbers>
 #include <vector>
 
+#include "aar/random_stream.h"
+
 namespace aar {
 namespace {
 
@@ -37,36 +39,16 @@ Pose Manoeuvre(double t) {
   return p;
 }
 
-// Seeded standard normal numbers (splitmix64, Box-Muller): the same on every platform.
-class Normal {
- public:
-  explicit Normal(uint64_t seed) : state_(seed) {}
-  double operator()() {
-    const double u1 = (static_cast<double>(Next() >> 11) + 0.5) * 0x1.0p-53;
-    const double u2 = static_cast<double>(Next() >> 11) * 0x1.0p-53;
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
-  }
-
- private:
-  uint64_t Next() {
-    uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  uint64_t state_;
-};
-
 std::vector<TimedPose> Sequence(double position_noise_m, double angle_noise_deg, uint64_t seed) {
-  Normal normal(seed);
+  RandomStream random(seed);
   std::vector<TimedPose> frames;
   for (size_t i = 0; i < kFrames; ++i) {
     const double t = kFrameS * static_cast<double>(i);
     Pose p = Manoeuvre(t);
-    for (int d = 0; d < 3; ++d) p.translation_m[d] += position_noise_m * normal();
-    p.roll_deg += angle_noise_deg * normal();
-    p.pitch_deg += angle_noise_deg * normal();
-    p.yaw_deg = WrapDegrees(p.yaw_deg + angle_noise_deg * normal());
+    for (int d = 0; d < 3; ++d) p.translation_m[d] += position_noise_m * random.Normal();
+    p.roll_deg += angle_noise_deg * random.Normal();
+    p.pitch_deg += angle_noise_deg * random.Normal();
+    p.yaw_deg = WrapDegrees(p.yaw_deg + angle_noise_deg * random.Normal());
     frames.push_back({t, p});
   }
   return frames;
