@@ -104,8 +104,9 @@ struct RunFlags {
                     "pairs), or sensed_to_model");
     cmd->add_option("--residual", residual,
                     "point-to-plane residual of a sensed point: metric (default: its distance to the model's tangent "
-                    "plane in metres) or disparity (along its own ray, in disparity: the model's predicted minus the "
-                    "measured)");
+                    "plane in metres), disparity (along its own ray, in disparity: the model's predicted minus the "
+                    "measured) or metric-ray (metric, the rotation turning it about where its ray meets the tangent "
+                    "plane, not about the noisy point)");
     cmd->add_option("--full-surface", full_surface,
                     "point-to-plane with the shelled model: pair sensed points with the full model's surface");
     cmd->add_option("--balance", balance, "symmetric pairing: weigh both directions equally in total (default: false)");

@@ -42,6 +42,17 @@ std::vector<SensedNoise> NoiseOf(const std::vector<Eigen::Vector3d>& sensed, con
   return noise;
 }
 
+// kMetricRay's lever arm: where the sensed point's ray meets the model's tangent plane (p, n); the sensed point
+// where the ray grazes the plane or meets it behind the camera.
+Eigen::Vector3d RayLever(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eigen::Vector3d& sensed,
+                         const SensedNoise& noise, const StereoNoiseGeometry& geometry) {
+  constexpr double kMinCosine = 0.1;
+  const double nu = n.dot(noise.ray);
+  if (!(std::abs(nu) > kMinCosine)) return sensed;
+  const double t = n.dot(p - geometry.camera_centre_in_tanker) / nu;
+  return t > 0.0 ? Eigen::Vector3d(geometry.camera_centre_in_tanker + t * noise.ray) : sensed;
+}
+
 // Normal equations of one Gauss-Newton step in the frame centred on `centre`.
 struct NormalEquations {
   Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
@@ -203,12 +214,23 @@ std::string ToString(PlanePairing pairing) {
   return "unknown";
 }
 
-std::string ToString(PlaneResidual residual) { return residual == PlaneResidual::kDisparity ? "disparity" : "metric"; }
+std::string ToString(PlaneResidual residual) {
+  switch (residual) {
+    case PlaneResidual::kDisparity:
+      return "disparity";
+    case PlaneResidual::kMetricRay:
+      return "metric-ray";
+    case PlaneResidual::kMetric:
+      break;
+  }
+  return "metric";
+}
 
 PlaneResidual ParsePlaneResidual(const std::string& text) {
   if (text == "metric") return PlaneResidual::kMetric;
   if (text == "disparity") return PlaneResidual::kDisparity;
-  throw Error("point-to-plane residual '" + text + "': expected metric or disparity");
+  if (text == "metric-ray") return PlaneResidual::kMetricRay;
+  throw Error("point-to-plane residual '" + text + "': expected metric, disparity or metric-ray");
 }
 
 PlanePairing ParsePlanePairing(const std::string& text) {
@@ -367,6 +389,9 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
       const Eigen::Vector3d n = rotation * surface_normals[j];
       if (o.residual == PlaneResidual::kMetric) {
         equations.Add(p, n, sensed[i], noise[i], centre, o, static_cast<double>(coarse), sum_squared, sensed[i]);
+      } else if (o.residual == PlaneResidual::kMetricRay) {
+        equations.Add(p, n, sensed[i], noise[i], centre, o, static_cast<double>(coarse), sum_squared,
+                      RayLever(p, n, sensed[i], noise[i], geometry_));
       } else if (!equations.AddDisparity(p, n, sensed[i], noise[i], geometry_, centre, o, static_cast<double>(coarse),
                                          sum_squared)) {
         // Oblique to the ray: the metric residual, its noise and lever arm from the model point.

@@ -76,8 +76,14 @@ enum class PlaneResidual {
   /// predicts the disparity where the ray meets it, minus the measured one;
   /// the rotation's lever arm is that meeting point (see AddDisparity in plane_icp.cpp).
   kDisparity,
+  /// n . (p - s) in metres as kMetric, with the rotation's lever arm where the
+  /// sensed point's ray meets the model's tangent plane (p, n) instead of the
+  /// sensed point itself: the same point for a point on the surface, without
+  /// the sensed point's depth noise (no errors in the variables). Where the
+  /// ray grazes the plane (|n . u| < 0.1) the sensed point.
+  kMetricRay,
 };
-/// "metric" / "disparity"; the parser throws aar::Error on other text.
+/// "metric" / "disparity" / "metric-ray"; the parser throws aar::Error on other text.
 std::string ToString(PlaneResidual residual);
 PlaneResidual ParsePlaneResidual(const std::string& text);
 
