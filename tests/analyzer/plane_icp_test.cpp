@@ -9,6 +9,7 @@
 
 #include "aar/analyzer/reference_model.h"
 #include "aar/error.h"
+#include "aar/random_stream.h"
 #include "test_meshes.h"
 
 namespace aar {
@@ -155,7 +156,7 @@ TEST(PlaneIcp, MahalanobisPairingConvergesOnTheSurfacesFacingTheCameras) {
   Eigen::Isometry3d initial = TruePose();
   initial.translation() += Eigen::Vector3d(0.3, -0.3, 0.3);
   initial.linear() = Eigen::AngleAxisd(3.0 * M_PI / 180.0, Eigen::Vector3d(1, 1, 1).normalized()) * initial.linear();
-  for (const PlaneResidual residual : {PlaneResidual::kMetric, PlaneResidual::kDisparity}) {
+  for (const PlaneResidual residual : {PlaneResidual::kMetric, PlaneResidual::kDisparity, PlaneResidual::kMetricRay}) {
     SCOPED_TRACE(ToString(residual));
     PlaneIcpOptions options;
     options.pairing = PlanePairing::kMahalanobis;
@@ -170,10 +171,42 @@ TEST(PlaneIcp, MahalanobisPairingConvergesOnTheSurfacesFacingTheCameras) {
   }
 }
 
+// Depth noise along the rays tilts the metric residual's estimate: its rotation turns about the noisy sensed point
+// (errors in the variables). Turning it about where the ray meets the model's plane (metric-ray) does not.
+TEST(PlaneIcp, TheRayLeverArmRemovesTheNoisesTilt) {
+  const ReferenceModel model = SampleSurfaceWithNormals(Receiver(), 8000, 7);
+  const StereoNoiseGeometry geometry = Geometry();
+  const ReferenceModel samples = SampleSurfaceWithNormals(Receiver(), 6000, 8);
+  RandomStream random(3);
+  std::vector<Eigen::Vector3d> sensed;
+  for (size_t i = 0; i < samples.points_in_receiver.size(); ++i) {
+    const Eigen::Vector3d s = TruePose() * samples.points_in_receiver[i];
+    const Eigen::Vector3d ray = s - geometry.camera_centre_in_tanker;
+    if ((TruePose().linear() * samples.normals_in_receiver[i]).dot(ray) >= 0.0) continue;
+    // 0.3 px of disparity noise at about 14 px: 2 % of the depth.
+    sensed.push_back(geometry.camera_centre_in_tanker + ray * (1.0 + 0.3 / 14.0 * random.Normal()));
+  }
+  const auto angle_error_deg = [&](PlaneResidual residual) {
+    PlaneIcpOptions options;
+    options.pairing = PlanePairing::kMahalanobis;
+    options.residual = residual;
+    options.disparity_noise_px = 0.3;
+    const PlaneIcpRegistration icp(model.points_in_receiver, model.normals_in_receiver, geometry, options);
+    const Eigen::Isometry3d error = TruePose().inverse() * icp.Register(sensed, TruePose()).tanker_from_receiver;
+    return Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI;
+  };
+  const double metric = angle_error_deg(PlaneResidual::kMetric);
+  const double ray = angle_error_deg(PlaneResidual::kMetricRay);
+  std::printf("rotation error: metric %.3f deg, metric-ray %.3f deg\n", metric, ray);
+  EXPECT_LT(ray, 0.5 * metric);
+}
+
 TEST(PlaneIcp, ResidualNames) {
   EXPECT_EQ(ParsePlaneResidual("disparity"), PlaneResidual::kDisparity);
   EXPECT_EQ(ParsePlaneResidual("metric"), PlaneResidual::kMetric);
   EXPECT_EQ(ToString(PlaneResidual::kDisparity), "disparity");
+  EXPECT_EQ(ParsePlaneResidual("metric-ray"), PlaneResidual::kMetricRay);
+  EXPECT_EQ(ToString(PlaneResidual::kMetricRay), "metric-ray");
   EXPECT_THROW(ParsePlaneResidual("pixels"), Error);
 }
 
