@@ -1,7 +1,7 @@
 #pragma once
 // Held-out approaches: seeded variants of the CONOPS approach (conops.h), for
 // measuring the analyzer on paths nobody tuned it on (docs/results.md,
-// "Held-out scenarios"). The same legs and holds, with their ranges, speeds
+// "Beyond the thesis: held-out scenarios"). The same legs and holds, with their ranges, speeds
 // and durations, the approach's depression and lateral offset, the attitude's
 // and the wander's sinusoids all drawn from a seed.
 
