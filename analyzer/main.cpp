@@ -153,7 +153,7 @@ struct RunFlags {
                   "remove the boom's pixels before re-projection, drawn from the sidecar's boom angles and the rig "
                   "(default preset: on for datasets with the boom)")
         ->excludes(cmd->add_flag("--no-mask-boom", no_mask_boom, "keep the boom's pixels"));
-    cmd->add_option("--boom-margin", boom_margin_px, "--mask-boom: grow the drawn boom by this many pixels")
+    cmd->add_option("--boom-margin", boom_margin_px, "the boom mask: grow the drawn boom by this many pixels")
         ->capture_default_str();
     cmd->add_flag("--mask-propellers", mask_propellers,
                   "drop the sensed points inside the receiver's two propeller discs under the registered pose and "

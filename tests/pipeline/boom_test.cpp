@@ -144,8 +144,11 @@ TEST(PropellerPipeline, TheDefaultMasksTurningPropellers) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = analyze(dir / "unmasked", "--no-mask-propellers");
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = analyze(dir / "thesis", "--preset thesis");  // the thesis's pipeline stays as it was
+  ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(ReadJsonFile(dir / "default" / kRunJsonName).at("options").contains("propeller_mask"));
   EXPECT_FALSE(ReadJsonFile(dir / "unmasked" / kRunJsonName).at("options").contains("propeller_mask"));
+  EXPECT_FALSE(ReadJsonFile(dir / "thesis" / kRunJsonName).at("options").contains("propeller_mask"));
   const std::vector<FrameResult> masked = ReadFrameResults(dir / "default" / kFramesCsvName);
   const std::vector<FrameResult> unmasked = ReadFrameResults(dir / "unmasked" / kFramesCsvName);
   ASSERT_EQ(masked.size(), 2u);
