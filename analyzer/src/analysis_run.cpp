@@ -263,18 +263,25 @@ void WriteCalibrationOutputs(const std::filesystem::path& out, const CalibrateOu
 
 namespace {
 
+// The manifest lists the boom's two models (a dataset rendered with the boom).
+bool HasBoom(const Manifest& manifest) {
+  const nlohmann::json inputs = manifest.json.value("inputs", nlohmann::json::object());
+  return inputs.is_object() && inputs.contains("boom_model") && inputs.contains("boom_tube_model");
+}
+
+// The manifest's propellers turn (a dataset rendered with --propellers).
+bool PropellersTurn(const Manifest& manifest) {
+  const nlohmann::json frames = manifest.json.value("frames", nlohmann::json::object());
+  return frames.is_object() && frames.contains("propellers") && frames["propellers"].value("rpm", 0.0) > 0.0;
+}
+
 // The options with the masks decided: as asked, or, when not asked, on with the default preset for what the
 // dataset has.
 AnalysisRunOptions WithMasks(const AnalysisRunOptions& requested, const Manifest& manifest) {
   AnalysisRunOptions options = requested;
   const bool defaults = options.preset == Preset::kDefault;
-  const nlohmann::json inputs = manifest.json.value("inputs", nlohmann::json::object());
-  const bool has_boom = inputs.is_object() && inputs.contains("boom_model");
-  const nlohmann::json frames = manifest.json.value("frames", nlohmann::json::object());
-  const bool propellers_turn =
-      frames.is_object() && frames.contains("propellers") && frames["propellers"].value("rpm", 0.0) > 0.0;
-  options.frame.mask_boom = options.mask_boom.value_or(defaults && has_boom);
-  options.frame.mask_propellers = options.mask_propellers.value_or(defaults && propellers_turn);
+  options.frame.mask_boom = options.mask_boom.value_or(defaults && HasBoom(manifest));
+  options.frame.mask_propellers = options.mask_propellers.value_or(defaults && PropellersTurn(manifest));
   return options;
 }
 
@@ -339,8 +346,7 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   FrameAnalyzer analyzer(calibration, rig.left.tanker_from_camera, reference, options.frame, &full_surface);
   if (options.frame.mask_boom) {
     // CheckDatasetInputs has checked the copies against the hashes the manifest records.
-    const nlohmann::json inputs = manifest.json.value("inputs", nlohmann::json::object());
-    if (!inputs.is_object() || !inputs.contains("boom_model") || !inputs.contains("boom_tube_model")) {
+    if (!HasBoom(manifest)) {
       throw Error("--mask-boom: " + options.dataset.string() +
                   " has no boom (boom.glb, boom_tube.glb: render a flight path with the boom columns, or --boom)");
     }
