@@ -66,10 +66,11 @@ def parse_args(argv, registered):
 
 
 def _snapshot_tools(args, out_root):
-    """Copies the two executables into OUT/tools/, so that a rebuild of the build folder during a long
-    run cannot mix binaries within one report; returns False when a copy does not run."""
+    """Copies the executables (aar-render, aar-analyze, aar-make-flightpaths) into OUT/tools/, so that a rebuild
+    of the build folder during a long run cannot mix binaries within one report; returns False when a copy does
+    not run."""
     snap = out_root / "tools"
-    for tool in ("renderer/aar-render", "analyzer/aar-analyze"):
+    for tool in ("renderer/aar-render", "analyzer/aar-analyze", "flightpaths/aar-make-flightpaths"):
         (snap / tool).parent.mkdir(parents=True, exist_ok=True)
         tmp = snap / (tool + ".tmp")
         shutil.copy2(Path(args.build) / tool, tmp)
@@ -78,8 +79,8 @@ def _snapshot_tools(args, out_root):
             print(f"aar_experiment: the copy of {Path(args.build) / tool} does not run "
                   "(was it being linked?); try again", file=sys.stderr)
             return False
-    LOG(f"tools: copied {rel(Path(args.build) / 'renderer/aar-render')} and "
-        f"{rel(Path(args.build) / 'analyzer/aar-analyze')} to {rel(snap)} (--no-snapshot runs them in place)")
+    LOG(f"tools: copied aar-render, aar-analyze and aar-make-flightpaths from {rel(args.build)} to {rel(snap)} "
+        "(--no-snapshot runs them in place)")
     args.tools_origin = rel(args.build)
     args.build = str(snap)
     return True

@@ -104,11 +104,10 @@ def draw(seed):
 
 def _path(ctx, seed, rig_path, boom):
     """The scenario's approach, generated for its rig: DATASETS/heldout-paths/conops[-boom]-variant-SEED.csv."""
-    origin = ROOT / ctx.tools_origin if ctx.tools_origin else ctx.build
     out = ctx.datasets / "heldout-paths"
     name = "conops-boom" if boom else "conops"
     ctx.run(f"generate the approach of scenario {seed}",
-            [origin / "flightpaths" / "aar-make-flightpaths", "--rig", rig_path, "--out", out, "--paths", name,
+            [ctx.make_flightpaths, "--rig", rig_path, "--out", out, "--paths", name,
              "--variant", str(seed)])
     return out / f"{name}-variant-{seed}.csv"
 

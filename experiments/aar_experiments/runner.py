@@ -137,6 +137,7 @@ class Ctx:
         self.tools_origin = getattr(args, "tools_origin", None)
         self.render = self.build / "renderer" / "aar-render"
         self.analyze = self.build / "analyzer" / "aar-analyze"
+        self.make_flightpaths = self.build / "flightpaths" / "aar-make-flightpaths"
 
     def env(self):
         env = dict(os.environ)

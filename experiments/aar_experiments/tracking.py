@@ -41,14 +41,11 @@ COUNT = {"quick": 25, "full": 250}
 
 def _path(ctx):
     """The CONOPS approach at 125 Hz, written by aar-make-flightpaths into the datasets folder."""
-    origin = ROOT / ctx.tools_origin if ctx.tools_origin else ctx.build
     out = ctx.datasets / "paths-125hz"
-    path = out / "conops.csv"
-    if not path.is_file():
-        ctx.run("generate the CONOPS approach at 125 Hz",
-                [origin / "flightpaths" / "aar-make-flightpaths", "--rig", ROOT / "scenes/rig.json", "--out", out,
-                 "--paths", "conops", "--time-step", TIME_STEP_S])
-    return path
+    ctx.run("generate the CONOPS approach at 125 Hz",
+            [ctx.make_flightpaths, "--rig", ROOT / "scenes/rig.json", "--out", out, "--paths", "conops",
+             "--time-step", TIME_STEP_S])
+    return out / "conops.csv"
 
 
 def _lag(rows, component):
