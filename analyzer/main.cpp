@@ -19,12 +19,15 @@
 #include "aar/data_path.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
-#include "aar/folder_lock.h"
+#include "aar/output_folder.h"
 
 namespace {
 
+// The dataset folder's own name ("." and "dir/" name the folder they mean).
 std::string DatasetName(const std::filesystem::path& dataset) {
-  const std::filesystem::path clean = dataset.lexically_normal();
+  std::error_code ec;
+  std::filesystem::path clean = std::filesystem::weakly_canonical(std::filesystem::absolute(dataset, ec), ec);
+  if (ec) clean = dataset.lexically_normal();
   return (clean.has_filename() ? clean.filename() : clean.parent_path().filename()).string();
 }
 
@@ -303,11 +306,11 @@ int RunCalibrate(int argc, char** argv) {
   if (const auto code = Parse(app, argc, argv)) return *code;
   options.distortion = aar::ParseDistortionModel(distortion);
   if (out.empty()) out = std::filesystem::path("results") / (DatasetName(dataset) + "-calibration");
+  aar::CheckOutputFolder(out);
   const aar::CalibrateOutput result = aar::CalibrateDataset(dataset, options);
-  aar::EnsureWritableDirectory(out);
-  const aar::FileLock lock = aar::LockOutputFolder(out);
-  aar::RemoveStaleTemporaries(out);
-  aar::WriteCalibrationOutputs(out, result);
+  aar::StagedOutput staged(out, "calibrate");
+  aar::WriteCalibrationOutputs(staged.path(), result);
+  staged.Commit();
   std::printf("%s\nwrote %s and %s\n", result.result.BriefReport().c_str(), (out / aar::kCalibrationYamlName).c_str(),
               (out / aar::kCalibrationReportName).c_str());
   return 0;
@@ -442,6 +445,9 @@ int main(int argc, char** argv) {
       return c.run(argc - 1, argv + 1);
     } catch (const aar::Error& e) {
       std::fprintf(stderr, "aar-analyze: error: %s\n", e.what());
+      return 1;
+    } catch (const std::filesystem::filesystem_error& e) {
+      std::fprintf(stderr, "aar-analyze: error: %s\n", aar::FileSystemMessage(e).c_str());
       return 1;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "aar-analyze: internal error: %s\n", e.what());

@@ -19,6 +19,7 @@
 #include "aar/flight_path.h"
 #include "aar/renderer/background.h"
 #include "aar/renderer/dataset_writer.h"
+#include "aar/renderer/msaa.h"
 #include "aar/renderer/stereo_render_job.h"
 #include "aar/renderer/vulkan_context.h"
 #include "aar/text.h"
@@ -252,6 +253,11 @@ int RunBench(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   std::vector<aar::BackgroundKind> kinds;
   for (const std::string& name : backgrounds) kinds.push_back(aar::ParseBackgroundKind(name));
+  if (app.count("--msaa") > 0) {  // one level: the same as --levels with it alone
+    if (app.count("--levels") > 0) throw aar::Error("--msaa and --levels: give one of them");
+    levels = {flags.job.msaa};
+  }
+  for (int level : levels) aar::CheckMsaaLevel(level);  // all refused before the first is timed
 
   aar::RenderJobOptions job = flags.job;
   const size_t count = aar::ReadFlightPath(job.flight_path).size();
@@ -311,6 +317,9 @@ int main(int argc, char** argv) {
     return RunTopLevel(argc, argv);
   } catch (const aar::Error& e) {
     std::fprintf(stderr, "aar-render: error: %s\n", e.what());
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::fprintf(stderr, "aar-render: error: %s\n", aar::FileSystemMessage(e).c_str());
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "aar-render: internal error: %s\n", e.what());

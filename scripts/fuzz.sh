@@ -3,10 +3,16 @@
 # build-fuzz/ and runs each for a fixed time from its committed seed corpus;
 # fails on any crash, sanitizer report, uncaught exception, leak, input slower
 # than 10 s or allocation above 2 GiB. Prints executions and coverage.
-# Usage: bash scripts/fuzz.sh [SECONDS_PER_HARNESS]   (default 20; two run at a time)
+# Usage: bash scripts/fuzz.sh [SECONDS_PER_HARNESS] [--keep-corpus]
+#   default 20 s per harness, two at a time (CI). The long run, 10 CPU-minutes
+#   per harness (about 40 minutes on 2 cores), keeps what it found:
+#   bash scripts/fuzz.sh 600 --keep-corpus
+#   merges each harness's grown corpus into tests/fuzz/corpus/NAME (libFuzzer
+#   -merge=1: only inputs that add coverage, so the committed corpus stays small).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-20}
+keep_corpus=${2:-}
 harnesses=(flight_path rig sidecar manifest calibration frame_selection ply gltf)
 
 # -O1 -gline-tables-only: libFuzzer's recommended flags, and a quicker build than -O2 -g.
@@ -53,4 +59,12 @@ for name in "${harnesses[@]}"; do
     tail -40 "$log" >&2
   fi
 done
+if [ "$keep_corpus" = --keep-corpus ] && [ "$failed" = 0 ]; then
+  for name in "${harnesses[@]}"; do
+    before=$(ls "tests/fuzz/corpus/$name" | wc -l)
+    build-fuzz/tests/fuzz/fuzz_"$name" -merge=1 -timeout=10 -rss_limit_mb=2048 "tests/fuzz/corpus/$name" \
+      "$out/corpus-$name" >"$out/$name.merge.log" 2>&1
+    echo "$name: committed corpus $before -> $(ls "tests/fuzz/corpus/$name" | wc -l) inputs"
+  done
+fi
 exit "$failed"

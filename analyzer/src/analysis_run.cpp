@@ -13,6 +13,7 @@
 #include "aar/file_io.h"
 #include "aar/flight_path.h"
 #include "aar/folder_lock.h"
+#include "aar/output_folder.h"
 #include "aar/progress.h"
 #include "aar/region.h"
 
@@ -168,16 +169,6 @@ void CheckDatasetInputs(const std::filesystem::path& dataset, const Manifest& ma
   }
 }
 
-// Frees an output folder for a new run: stale temporaries go, and run.json
-// (written last, the mark of a finished run) goes first, so an interrupted run
-// never leaves a run.json beside another run's frames.csv.
-void PrepareOutputFolder(const std::filesystem::path& out) {
-  RemoveStaleTemporaries(out);
-  std::error_code ec;
-  std::filesystem::remove(out / kRunJsonName, ec);
-  if (ec) throw Error((out / kRunJsonName).string() + ": cannot remove (" + ec.message() + ")");
-}
-
 // A shard's run.json: present (the run finished) and with the keys merge compares.
 nlohmann::json ReadRunJson(const std::filesystem::path& dir) {
   const std::filesystem::path path = dir / kRunJsonName;
@@ -292,8 +283,17 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   requested.frame.Check();
   const Manifest manifest = ReadManifest(requested.dataset);
   const AnalysisRunOptions options = WithMasks(requested, manifest);
+  if (options.write_outputs) CheckOutputFolder(options.out);
   const std::string manifest_path = (options.dataset / kManifestName).string();
   if (manifest.frame_count == 0) throw Error(manifest_path + ": dataset has no frames");
+  // Options that could only leave every frame unmeasured or unchanged are refused here.
+  if (options.frame.mask_propellers && !PropellersTurn(manifest)) {
+    throw Error("--mask-propellers: " + manifest_path +
+                " records no turning propellers (frames.propellers.rpm; render with --propellers)");
+  }
+  if (options.frame.register_truth_cloud && !manifest.json.at("frames").value("depth", false)) {
+    throw Error("--truth-cloud: " + manifest_path + " records no depth truth (frames.depth; render with --depth)");
+  }
   options.selection.CheckWithin(manifest.frame_count, manifest_path);
   CheckDatasetInputs(options.dataset, manifest, !options.receiver_model);
   // Truth for frames whose sidecar cannot be read comes from the flight path.
@@ -317,6 +317,11 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
     }
   }
   const StereoRig rig = LoadRig(options.dataset / kRigName);
+  if (options.frame.disparity.num_disparities >= rig.left.intrinsics.width_px) {
+    throw Error("--num-disparities " + std::to_string(options.frame.disparity.num_disparities) +
+                ": must be below the image width (" + std::to_string(rig.left.intrinsics.width_px) + " px, " +
+                (options.dataset / kRigName).string() + ")");
+  }
   std::optional<CalibrateOutput> calibrated;
   StereoCalibration calibration;
   nlohmann::json calibration_source;
@@ -368,17 +373,18 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
                               {"frames", DescribeSelection(options.selection)},
                               {"frames_analyzed", selected.size()},
                               {"options", OptionsJson(options)}};
-  std::optional<FileLock> out_lock;
+  // Written into a staging folder and put in place at the end (output_folder.h).
+  std::optional<StagedOutput> staged;
+  std::filesystem::path out;
   if (options.write_outputs) {
-    EnsureWritableDirectory(options.out);
-    out_lock = LockOutputFolder(options.out);
-    PrepareOutputFolder(options.out);
+    staged.emplace(options.out, "run");
+    out = staged->path();
     if (calibrated) {
-      WriteCalibrationOutputs(options.out, *calibrated);
+      WriteCalibrationOutputs(out, *calibrated);
     } else {
-      WriteCalibration(options.out / kCalibrationYamlName, calibration);
+      WriteCalibration(out / kCalibrationYamlName, calibration);
     }
-    WritePly(options.out / ("reference_" + reference.name + ".ply"), reference.points_in_receiver,
+    WritePly(out / ("reference_" + reference.name + ".ply"), reference.points_in_receiver,
              {"aar-analyze reference model '" + reference.name + "', receiver frame, metres"});
   }
 
@@ -403,8 +409,8 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   for (size_t index : selected) {
     FrameDump dump;
     const bool dumped = options.write_outputs && dump_frames.contains(index);
-    FrameResult frame = analyzer.Analyze(options.dataset, index, manifest.files, history, dumped ? &dump : nullptr);
-    if (dumped) WriteFrameDump(options.out / kFrameDumpDir, index, dump, projection);
+    FrameResult frame = analyzer.Analyze(options.dataset, index, manifest, history, dumped ? &dump : nullptr);
+    if (dumped) WriteFrameDump(out / kFrameDumpDir, index, dump, projection);
     if (frame.ok()) {
       history.before_last = history.last;
       history.last = std::make_pair(frame.time_s, frame.estimate);
@@ -425,15 +431,17 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   FilterFrameResults(result.frames, options.filter);
   result.summary = SummarizeFrames(reference.name, result.frames);
   if (options.write_outputs) {
-    WriteFrameResults(options.out / kFramesCsvName, result.frames);
-    WriteSummary(options.out, run, result.summary);
-    WriteJsonFile(options.out / kRunJsonName, run);  // last: the run finished
+    WriteFrameResults(out / kFramesCsvName, result.frames);
+    WriteSummary(out, run, result.summary);
+    WriteJsonFile(out / kRunJsonName, run);
+    staged->Commit();
   }
   return result;
 }
 
 void MergeRuns(const std::vector<std::filesystem::path>& shard_dirs, const std::filesystem::path& out) {
   if (shard_dirs.empty()) throw Error("merge: no shard folders given");
+  CheckOutputFolder(out);
   std::error_code ec;
   const std::filesystem::path out_canonical = std::filesystem::weakly_canonical(out, ec);
   std::vector<FileLock> shard_locks;  // no run may be writing a shard while it is read
@@ -444,8 +452,13 @@ void MergeRuns(const std::vector<std::filesystem::path>& shard_dirs, const std::
       throw Error(dir.string() + ": shard folder given twice");
     }
     seen.push_back(canonical);
-    if (canonical == out_canonical) {
-      throw Error(out.string() + ": --out is one of the shard folders; merge into a new folder");
+    const auto [in_shard, in_out] =
+        std::mismatch(canonical.begin(), canonical.end(), out_canonical.begin(), out_canonical.end());
+    if (in_shard == canonical.end()) {
+      throw Error(out.string() + ": --out is one of the shard folders or inside one; merge into a new folder");
+    }
+    if (in_out == out_canonical.end()) {
+      throw Error(out.string() + ": --out holds the shard folder " + dir.string() + "; merge into a new folder");
     }
     shard_locks.push_back(LockOutputFolder(dir));
   }
@@ -479,14 +492,13 @@ void MergeRuns(const std::vector<std::filesystem::path>& shard_dirs, const std::
   const nlohmann::json& options = first_run.at("options");
   if (options.contains("filter")) filter.window_s = options.at("filter").at("window_s").get<double>();
   FilterFrameResults(merged, filter);
-  EnsureWritableDirectory(out);
-  const FileLock out_lock = LockOutputFolder(out);
-  PrepareOutputFolder(out);
+  StagedOutput staged(out, "merge");
   first_run["frames"] = "merged from " + std::to_string(shard_dirs.size()) + " shards";
   first_run["frames_analyzed"] = frames_analyzed;
-  WriteFrameResults(out / kFramesCsvName, merged);
-  WriteSummary(out, first_run, SummarizeFrames(first_run.at("model").get<std::string>(), merged));
-  WriteJsonFile(out / kRunJsonName, first_run);  // last: the merge finished
+  WriteFrameResults(staged.path() / kFramesCsvName, merged);
+  WriteSummary(staged.path(), first_run, SummarizeFrames(first_run.at("model").get<std::string>(), merged));
+  WriteJsonFile(staged.path() / kRunJsonName, first_run);
+  staged.Commit();
 }
 
 }  // namespace aar

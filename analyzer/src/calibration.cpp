@@ -126,10 +126,12 @@ void BoardDepthRange(const BoardSpec& board, const cv::Mat& rvecs, const cv::Mat
   result.board_depth_max_m = farthest;
 }
 
-cv::Mat ReadImage(const std::filesystem::path& path, const std::string& name) {
-  if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": calibration image not found");
-  cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
-  if (image.empty()) throw Error(path.string() + ": cannot decode calibration image (" + name + ")");
+// A board image, checked against its sidecar's and the manifest's SHA-256 first.
+cv::Mat ReadImage(const std::filesystem::path& dataset, const Manifest& manifest, const FileRef& ref) {
+  const std::string bytes = ReadListedFile(dataset, manifest, ref);
+  cv::Mat image = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())),
+                               cv::IMREAD_COLOR);
+  if (image.empty()) throw Error((dataset / ref.path).string() + ": cannot decode calibration image");
   return image;
 }
 
@@ -342,11 +344,12 @@ CalibrationResult CalibrateFromDataset(const std::filesystem::path& dataset, con
   std::vector<PairDetection> detections;
   cv::Size size;
   for (size_t i = 0; i < manifest.calib_pair_count; ++i) {
+    const FrameSidecar sidecar = ReadListedSidecar(dataset, manifest, "calib", i);
     StereoImagePair pair;
-    pair.left_name = std::string(kCalibDir) + "/" + FrameStem(i) + "_left.png";
-    pair.right_name = std::string(kCalibDir) + "/" + FrameStem(i) + "_right.png";
-    pair.left = ReadImage(dataset / pair.left_name, pair.left_name);
-    pair.right = ReadImage(dataset / pair.right_name, pair.right_name);
+    pair.left_name = sidecar.files.at("left").path;
+    pair.right_name = sidecar.files.at("right").path;
+    pair.left = ReadImage(dataset, manifest, sidecar.files.at("left"));
+    pair.right = ReadImage(dataset, manifest, sidecar.files.at("right"));
     if (i == 0) size = pair.left.size();
     for (const auto& [image, name] :
          {std::pair{&pair.left, &pair.left_name}, std::pair{&pair.right, &pair.right_name}}) {

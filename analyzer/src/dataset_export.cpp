@@ -1,5 +1,6 @@
 #include "aar/analyzer/dataset_export.h"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 
@@ -9,6 +10,7 @@
 #include "aar/analyzer/export_tum.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
+#include "aar/output_folder.h"
 
 namespace aar {
 
@@ -44,16 +46,8 @@ ExportSource ReadExportSource(const ExportOptions& options) {
     throw Error(manifest_path + ": no frame selected (the dataset has " + std::to_string(source.manifest.frame_count) +
                 ")");
   }
-  for (size_t index : selected) {
-    const std::filesystem::path path = SidecarPath(options.dataset, "frame", index);
-    if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": sidecar missing (frame not rendered)");
-    const std::string relative = std::filesystem::relative(path, options.dataset).generic_string();
-    if (const auto it = source.manifest.files.find(relative);
-        it != source.manifest.files.end() && it->second != Sha256File(path)) {
-      throw Error(path.string() + ": SHA-256 differs from manifest.json's");
-    }
-    source.frames.push_back(ReadSidecar(path));
-  }
+  for (size_t index : selected)
+    source.frames.push_back(ReadListedSidecar(options.dataset, source.manifest, "frame", index));
   return source;
 }
 
@@ -67,16 +61,7 @@ StereoCalibration ReadIdealCalibration(const ExportSource& source) {
 }
 
 std::string ReadVerifiedFile(const ExportSource& source, const FileRef& ref) {
-  const std::filesystem::path path = source.dataset / ref.path;
-  if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": missing");
-  std::string bytes = ReadFileBytes(path);
-  const std::string hash = Sha256Hex(bytes);
-  if (hash != ref.sha256)
-    throw Error(path.string() + ": SHA-256 differs from the sidecar's (file changed or truncated)");
-  if (const auto it = source.manifest.files.find(ref.path); it != source.manifest.files.end() && it->second != hash) {
-    throw Error(path.string() + ": SHA-256 differs from manifest.json's");
-  }
-  return bytes;
+  return ReadListedFile(source.dataset, source.manifest, ref);
 }
 
 const FileRef& RequireFile(const ExportSource& source, const FrameSidecar& frame, const std::string& role,
@@ -105,8 +90,9 @@ void WriteExportFile(const std::filesystem::path& out, const std::string& relati
   result.files.push_back(relative);
 }
 
-ExportResult ExportDataset(ExportFormat format, const ExportOptions& options) {
-  if (options.out.empty()) throw Error("export: no output folder given (--out)");
+namespace {
+
+ExportResult ExportInto(ExportFormat format, const ExportOptions& options) {
   switch (format) {
     case ExportFormat::kBop:
       return ExportBop(options);
@@ -118,6 +104,29 @@ ExportResult ExportDataset(ExportFormat format, const ExportOptions& options) {
       return ExportRos(options);
   }
   throw Error("export: unknown format");
+}
+
+}  // namespace
+
+ExportResult ExportDataset(ExportFormat format, const ExportOptions& options) {
+  if (options.out.empty()) throw Error("export: no output folder given (--out)");
+  CheckOutputFolder(options.out);
+  if (options.run) {
+    std::error_code ec;
+    const std::filesystem::path run = std::filesystem::weakly_canonical(*options.run, ec);
+    const std::filesystem::path out = std::filesystem::weakly_canonical(options.out, ec);
+    if (std::mismatch(out.begin(), out.end(), run.begin(), run.end()).first == out.end()) {
+      throw Error(options.out.string() + ": --out is the --run folder or holds it; export into another folder");
+    }
+  }
+  ReadExportSource(options);  // the dataset and its frames, checked before anything is written
+  // Written as a whole (output_folder.h): a failed or killed export leaves the previous output.
+  StagedOutput staged(options.out, "export");
+  ExportOptions into = options;
+  into.out = staged.path();
+  ExportResult result = ExportInto(format, into);
+  staged.Commit();
+  return result;
 }
 
 }  // namespace aar

@@ -36,7 +36,9 @@ double MatcherRoundingBiasPx(DisparityAlgorithm algorithm) {
 
 void DisparityOptions::Check() const {
   const auto fail = [](const std::string& message) { throw Error("disparity options: " + message); };
-  if (num_disparities <= 0 || num_disparities % 16 != 0) fail("num_disparities must be a positive multiple of 16");
+  if (num_disparities <= 0 || num_disparities % 16 != 0 || num_disparities > 4096) {
+    fail("num_disparities (--num-disparities) must be a multiple of 16 from 16 to 4096");
+  }
   if (block_size < 5 || block_size > 255 || block_size % 2 == 0) {
     if (algorithm == DisparityAlgorithm::kBlockMatching || block_size < 1 || block_size % 2 == 0) {
       fail("block_size must be odd (5..255 for block matching)");

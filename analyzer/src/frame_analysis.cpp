@@ -39,17 +39,10 @@ Eigen::Isometry3d LeftFromRectLeft(const StereoCalibration& calibration) {
 }
 
 // Reads one image of the pair, checking its hash against the sidecar and the manifest.
-cv::Mat ReadImage(const std::filesystem::path& dataset, const FileRef& ref,
-                  const std::map<std::string, std::string>& expected_hashes, int flags = cv::IMREAD_COLOR) {
+cv::Mat ReadImage(const std::filesystem::path& dataset, const FileRef& ref, const Manifest& manifest,
+                  int flags = cv::IMREAD_COLOR) {
   const std::filesystem::path path = dataset / ref.path;
-  if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": image missing");
-  const std::string bytes = ReadFileBytes(path);
-  const std::string hash = Sha256Hex(bytes);
-  if (hash != ref.sha256)
-    throw Error(path.string() + ": SHA-256 differs from the sidecar's (file changed or truncated)");
-  if (const auto it = expected_hashes.find(ref.path); it != expected_hashes.end() && it->second != hash) {
-    throw Error(path.string() + ": SHA-256 differs from manifest.json's");
-  }
+  const std::string bytes = ReadListedFile(dataset, manifest, ref);
   const cv::Mat image =
       cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), flags);
   if (image.empty()) throw Error(path.string() + ": cannot decode image");
@@ -130,7 +123,14 @@ void FrameAnalysisOptions::Check() const {
   if (!(min_inlier_fraction >= 0.0 && min_inlier_fraction <= 1.0)) {
     throw Error("min_inlier_fraction must be in [0, 1]");
   }
-  if (!(disparity_noise_px >= 0)) throw Error("disparity_noise_px must not be negative");
+  if (!(disparity_noise_px > 0.0 && disparity_noise_px <= 100.0)) {
+    throw Error("--disparity-noise " + FormatFixed(disparity_noise_px, 3) + ": expected (0, 100] px");
+  }
+  if (!(std::abs(reprojection.disparity_offset_px) < disparity.num_disparities)) {
+    throw Error("--disparity-offset " + FormatFixed(reprojection.disparity_offset_px, 3) +
+                ": expected a finite offset smaller than --num-disparities (" +
+                std::to_string(disparity.num_disparities) + ")");
+  }
   if (!(max_seed_attitude_deg >= 0.0 && max_seed_attitude_deg <= 180.0)) {
     throw Error("max_seed_attitude_deg must be in [0, 180]");
   }
@@ -324,27 +324,20 @@ cv::Rect FrameAnalyzer::PredictedRegion(const Eigen::Isometry3d& tanker_from_rec
   return box & image;
 }
 
-FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t index,
-                                   const std::map<std::string, std::string>& expected_hashes,
+FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t index, const Manifest& manifest,
                                    const TrackHistory& history, FrameDump* dump) const {
   const auto frame_start = std::chrono::steady_clock::now();
   FrameResult r;
   r.frame = index;
   try {
     auto start = std::chrono::steady_clock::now();
-    const std::filesystem::path sidecar_path = SidecarPath(dataset, "frame", index);
-    const FrameSidecar sidecar = ReadSidecar(sidecar_path);
+    const FrameSidecar sidecar = ReadListedSidecar(dataset, manifest, "frame", index);
     r.time_s = sidecar.time_s;
     r.truth = sidecar.tanker_from_target;
     r.range_m = sidecar.range_m;
     r.region = RegionForRange(sidecar.range_m);
-    const std::string relative_sidecar = std::filesystem::relative(sidecar_path, dataset).generic_string();
-    if (const auto it = expected_hashes.find(relative_sidecar);
-        it != expected_hashes.end() && it->second != Sha256File(sidecar_path)) {
-      throw Error(sidecar_path.string() + ": SHA-256 differs from manifest.json's");
-    }
-    const cv::Mat left = ReadImage(dataset, sidecar.files.at("left"), expected_hashes);
-    const cv::Mat right = ReadImage(dataset, sidecar.files.at("right"), expected_hashes);
+    const cv::Mat left = ReadImage(dataset, sidecar.files.at("left"), manifest);
+    const cv::Mat right = ReadImage(dataset, sidecar.files.at("right"), manifest);
     if (left.size() != rectifier_.image_size() || right.size() != rectifier_.image_size()) {
       throw Error((dataset / sidecar.files.at("left").path).string() + ": image size differs from the calibration's");
     }
@@ -383,8 +376,8 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
     if (sidecar.boom && sidecar.files.count("left_mask") && sidecar.files.count("left_silhouette")) {
       // The id mask was read with the depth truth when the run compares with it.
       r.receiver_occluded_fraction = ReceiverOccludedFraction(
-          truth ? truth->ids : ReadImage(dataset, sidecar.files.at("left_mask"), expected_hashes, cv::IMREAD_GRAYSCALE),
-          ReadImage(dataset, sidecar.files.at("left_silhouette"), expected_hashes, cv::IMREAD_GRAYSCALE));
+          truth ? truth->ids : ReadImage(dataset, sidecar.files.at("left_mask"), manifest, cv::IMREAD_GRAYSCALE),
+          ReadImage(dataset, sidecar.files.at("left_silhouette"), manifest, cv::IMREAD_GRAYSCALE));
     }
     const BoomMasks* boom = boom_masks ? &*boom_masks : nullptr;
     const std::optional<Pose> seed = SeedFromHistory(history, options_);

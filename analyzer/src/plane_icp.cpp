@@ -10,6 +10,7 @@
 #include "aar/analyzer/nearest_cache.h"
 #include "aar/analyzer/sheet_grid.h"
 #include "aar/error.h"
+#include "aar/text.h"
 
 namespace aar {
 namespace {
@@ -253,8 +254,14 @@ void PlaneIcpOptions::Check() const {
     throw Error("point-to-plane ICP: model_pull_scale_m must be finite and >= 0");
   }
   if (!(gate_sigmas >= 0.0)) throw Error("point-to-plane ICP: gate_sigmas must be >= 0");
-  if (!(disparity_noise_px >= 0.0) || !(lateral_noise_px >= 0.0) || !(surface_noise_m > 0.0)) {
-    throw Error("point-to-plane ICP: noise model needs disparity/lateral noise >= 0 and surface noise > 0");
+  // The pairing's metric and the weights divide by the disparity noise: zero would make every pair infinitely sure.
+  if (!(disparity_noise_px > 0.0 && disparity_noise_px <= 100.0)) {
+    throw Error("--disparity-noise " + FormatFixed(disparity_noise_px, 3) +
+                ": the ICP's stereo noise model needs a disparity noise in (0, 100] px");
+  }
+  if (!(lateral_noise_px >= 0.0) || !(surface_noise_m > 0.0) || !std::isfinite(lateral_noise_px) ||
+      !std::isfinite(surface_noise_m)) {
+    throw Error("point-to-plane ICP: noise model needs lateral noise >= 0 and surface noise > 0");
   }
   if (kdtree_leaf_size < 1) throw Error("point-to-plane ICP: kdtree_leaf_size must be >= 1");
   if (!(converged_chi2 >= 0.0)) throw Error("point-to-plane ICP: converged_chi2 must be >= 0");

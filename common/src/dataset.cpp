@@ -1,7 +1,7 @@
 #include "aar/dataset.h"
 
 #include <cstdio>
-#include <fstream>
+#include <vector>
 
 #include "aar/error.h"
 #include "aar/file_io.h"
@@ -71,6 +71,7 @@ nlohmann::json SidecarToJson(const FrameSidecar& s) {
                  {"tanker_from_boom", IsometryToJson(TankerFromBoom(*s.boom))},
                  {"tanker_from_boom_tube", IsometryToJson(TankerFromBoomTube(*s.boom))}};
   }
+  if (!s.settings_sha256.empty()) j["settings_sha256"] = s.settings_sha256;
   nlohmann::json files = nlohmann::json::object();
   for (const auto& [name, ref] : s.files) files[name] = {{"path", ref.path}, {"sha256", ref.sha256}};
   j["files"] = files;
@@ -111,6 +112,10 @@ FrameSidecar ReadSidecar(const std::filesystem::path& path) {
           BoomPose{b.at("pitch_deg").get<double>(), b.at("roll_deg").get<double>(), b.at("extension_m").get<double>()};
       s.boom->Check(where + ": boom");
     }
+    if (j.contains("settings_sha256")) {
+      s.settings_sha256 = j.at("settings_sha256").get<std::string>();
+      if (!IsSha256Hex(s.settings_sha256)) throw Error(where + ": settings_sha256 is not a SHA-256");
+    }
     for (const auto& [name, ref] : j.at("files").items()) {
       s.files[name] = FileRef{ref.at("path").get<std::string>(), ref.at("sha256").get<std::string>()};
     }
@@ -121,10 +126,12 @@ FrameSidecar ReadSidecar(const std::filesystem::path& path) {
   }
 }
 
-bool SidecarVerified(const std::filesystem::path& dataset, const std::filesystem::path& sidecar_path) {
+bool SidecarVerified(const std::filesystem::path& dataset, const std::filesystem::path& sidecar_path,
+                     const std::string& settings_sha256) {
   if (!std::filesystem::is_regular_file(sidecar_path)) return false;
   try {
     const FrameSidecar s = ReadSidecar(sidecar_path);
+    if (!s.settings_sha256.empty() && s.settings_sha256 != settings_sha256) return false;
     for (const auto& [name, ref] : s.files) {
       const std::filesystem::path file = dataset / ref.path;
       if (!std::filesystem::is_regular_file(file) || Sha256File(file) != ref.sha256) return false;
@@ -133,6 +140,64 @@ bool SidecarVerified(const std::filesystem::path& dataset, const std::filesystem
   } catch (const Error&) {
     return false;
   }
+}
+
+std::string ReadListedFile(const std::filesystem::path& dataset, const Manifest& manifest, const FileRef& ref) {
+  const std::filesystem::path path = dataset / ref.path;
+  if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": missing");
+  std::string bytes = ReadFileBytes(path);
+  const std::string hash = Sha256Hex(bytes);
+  if (hash != ref.sha256)
+    throw Error(path.string() + ": SHA-256 differs from the sidecar's (file changed or truncated)");
+  if (const auto it = manifest.files.find(ref.path); it != manifest.files.end() && it->second != hash) {
+    throw Error(path.string() + ": SHA-256 differs from manifest.json's");
+  }
+  return bytes;
+}
+
+FrameSidecar ReadListedSidecar(const std::filesystem::path& dataset, const Manifest& manifest, const std::string& kind,
+                               size_t index) {
+  const std::filesystem::path path = SidecarPath(dataset, kind, index);
+  if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": sidecar missing (not rendered)");
+  const std::string relative = std::filesystem::relative(path, dataset).generic_string();
+  if (const auto it = manifest.files.find(relative); it != manifest.files.end() && it->second != Sha256File(path)) {
+    throw Error(path.string() + ": SHA-256 differs from manifest.json's");
+  }
+  FrameSidecar sidecar = ReadSidecar(path);
+  const std::string& settings = kind == "calib" ? manifest.calib_settings_sha256 : manifest.frame_settings_sha256;
+  if (!settings.empty() && !sidecar.settings_sha256.empty() && sidecar.settings_sha256 != settings) {
+    throw Error(path.string() + ": rendered with other settings than manifest.json records");
+  }
+  if (sidecar.kind != kind || sidecar.index != index) {
+    throw Error(path.string() + ": holds " + sidecar.kind + " " + std::to_string(sidecar.index) + ", not " + kind +
+                " " + std::to_string(index));
+  }
+  return sidecar;
+}
+
+nlohmann::json RenderSettings(const nlohmann::json& manifest, const std::string& kind) {
+  // The inputs each kind reads; the other kind's inputs do not shape its pairs.
+  static const std::vector<std::string> kFrameInputs = {
+      "rig", "receiver_model", "tanker_model", "flight_path", "boom_model", "boom_tube_model", "propeller_model"};
+  static const std::vector<std::string> kCalibInputs = {"rig", "board_model"};
+  const bool calib = kind == "calib";
+  nlohmann::json settings = nlohmann::json::object();
+  for (const char* key : {"schema", "device", "image", calib ? "calib" : "frames"}) {
+    if (manifest.is_object() && manifest.contains(key)) settings[key] = manifest.at(key);
+  }
+  nlohmann::json inputs = nlohmann::json::object();
+  if (manifest.is_object() && manifest.contains("inputs") && manifest.at("inputs").is_object()) {
+    for (const std::string& key : calib ? kCalibInputs : kFrameInputs) {
+      if (manifest.at("inputs").contains(key)) inputs[key] = manifest.at("inputs").at(key);
+    }
+  }
+  settings["inputs"] = inputs;
+  return settings;
+}
+
+std::string RenderSettingsSha256(const nlohmann::json& manifest, const std::string& kind) {
+  if (!manifest.is_object() || !manifest.contains(kind == "calib" ? "calib" : "frames")) return "";
+  return Sha256Hex(RenderSettings(manifest, kind).dump());
 }
 
 bool IsSha256Hex(const std::string& text) {
@@ -163,24 +228,12 @@ Manifest ReadManifest(const std::filesystem::path& dataset) {
       if (!IsSha256Hex(m.files[name])) throw Error(path.string() + ": files['" + name + "'] is not a SHA-256");
     }
     if (m.complete && m.files.empty()) throw Error(path.string() + ": complete, but 'files' lists nothing");
+    m.frame_settings_sha256 = RenderSettingsSha256(m.json, "frame");
+    m.calib_settings_sha256 = RenderSettingsSha256(m.json, "calib");
   } catch (const nlohmann::json::exception& e) {
     throw Error(path.string() + ": malformed manifest: " + e.what());
   }
   return m;
-}
-
-nlohmann::json ReadJsonFile(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path.string() + ": cannot open");
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(path.string() + ": not valid JSON: " + e.what());
-  }
-}
-
-void WriteJsonFile(const std::filesystem::path& path, const nlohmann::json& j) {
-  WriteFileAtomic(path, j.dump(2) + "\n");
 }
 
 }  // namespace aar

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <openssl/evp.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -29,9 +30,21 @@ void Rename(const std::filesystem::path& from, const std::filesystem::path& to) 
   }
 }
 
+// True when `path` is a regular file holding exactly `bytes`.
+bool HoldsBytes(const std::filesystem::path& path, std::string_view bytes) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec) || std::filesystem::file_size(path, ec) != bytes.size() || ec) {
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::string existing(bytes.size(), '\0');
+  return in.read(existing.data(), static_cast<std::streamsize>(existing.size())) && existing == bytes;
+}
+
 }  // namespace
 
 void WriteFileAtomic(const std::filesystem::path& path, std::string_view bytes) {
+  if (HoldsBytes(path, bytes)) return;  // already there: the file, its time stamps included, stays untouched
   const std::filesystem::path temporary = TemporaryName(path);
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw Error(path.string() + ": cannot write (" + std::strerror(errno) + ")");
@@ -57,6 +70,11 @@ void WriteFileAtomicWith(const std::filesystem::path& path,
   const std::filesystem::path temporary = TemporaryName(path);
   try {
     write(temporary);
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(path, ec) && HoldsBytes(path, ReadFileBytes(temporary))) {
+      std::filesystem::remove(temporary);  // already there: left untouched
+      return;
+    }
   } catch (...) {
     std::error_code ec;
     std::filesystem::remove(temporary, ec);
@@ -66,8 +84,13 @@ void WriteFileAtomicWith(const std::filesystem::path& path,
 }
 
 std::string ReadFileBytes(const std::filesystem::path& path) {
+  // A FIFO or a device would block or never end: only regular files are read.
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) throw Error(path.string() + ": cannot open (" + std::strerror(errno) + ")");
+  if (S_ISDIR(info.st_mode)) throw Error(path.string() + ": is a folder, not a file");
+  if (!S_ISREG(info.st_mode)) throw Error(path.string() + ": not a regular file (a FIFO, socket or device)");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path.string() + ": cannot open");
+  if (!in) throw Error(path.string() + ": cannot open (" + std::strerror(errno) + ")");
   std::ostringstream out;
   out << in.rdbuf();
   if (in.bad()) throw Error(path.string() + ": read failed");

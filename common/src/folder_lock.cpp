@@ -75,10 +75,17 @@ void FileLock::Change(LockMode mode) {
   if (Flock(fd_, Operation(mode)) != 0) throw Error(path_.string() + ": cannot lock (" + std::strerror(errno) + ")");
 }
 
+std::filesystem::path OutputLockPath(const std::filesystem::path& dir) {
+  const std::filesystem::path absolute = std::filesystem::absolute(dir).lexically_normal();
+  const std::filesystem::path folder = absolute.has_filename() ? absolute : absolute.parent_path();
+  return folder.parent_path() / ("." + folder.filename().string() + ".aar-lock");
+}
+
 FileLock LockOutputFolder(const std::filesystem::path& dir) {
-  FileLock lock = FileLock::TryLock(dir / kOutputLockName, LockMode::kExclusive);
+  const std::filesystem::path path = OutputLockPath(dir);
+  FileLock lock = FileLock::TryLock(path, LockMode::kExclusive);
   if (!lock.held()) {
-    throw Error(dir.string() + ": output folder in use by another run (" + kOutputLockName +
+    throw Error(dir.string() + ": output folder in use by another run (" + path.string() +
                 " is locked); wait for it or choose another --out");
   }
   return lock;

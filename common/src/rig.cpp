@@ -1,10 +1,10 @@
 #include "aar/rig.h"
 
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "aar/error.h"
+#include "aar/json_file.h"
 #include "aar/json_number.h"
 
 namespace aar {
@@ -82,6 +82,11 @@ Intrinsics IntrinsicsFromJson(const nlohmann::json& j, int width, int height, co
     const nlohmann::json& d = j.at("distortion");
     const std::string at = where + ": distortion";
     if (!d.is_object()) throw Error(at + " must be an object {k1, k2, p1, p2, k3}");
+    for (const auto& item : d.items()) {
+      if (item.key() != "k1" && item.key() != "k2" && item.key() != "p1" && item.key() != "p2" && item.key() != "k3") {
+        throw Error(at + "." + item.key() + " is not a Brown-Conrady coefficient (k1, k2, p1, p2, k3)");
+      }
+    }
     k.distortion = {FiniteNumber(d, "k1", at), FiniteNumber(d, "k2", at), FiniteNumber(d, "p1", at),
                     FiniteNumber(d, "p2", at), FiniteNumber(d, "k3", at)};
     CheckDistortionInImage(k.distortion, k.fx_px, k.fy_px, k.cx_px, k.cy_px, width, height, where);
@@ -170,16 +175,6 @@ StereoRig RigFromJson(const nlohmann::json& j, const std::string& where) {
   }
 }
 
-StereoRig LoadRig(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path.string() + ": cannot open rig file");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(path.string() + ": not valid JSON: " + e.what());
-  }
-  return RigFromJson(j, path.string());
-}
+StereoRig LoadRig(const std::filesystem::path& path) { return RigFromJson(ReadJsonFile(path), path.string()); }
 
 }  // namespace aar

@@ -35,18 +35,21 @@ double SensorParams::GainDnPerElectron() const {
 
 void SensorParams::Check(const std::string& where) const {
   const std::string at = where + ": sensor.";
-  if (!(exposure_e > 0.0 && std::isfinite(exposure_e))) {
-    throw Error(at + "exposure_e " + Text(exposure_e) + " must be positive [e- at radiance 1]");
+  // Electron counts are single-precision floats in the sensor model; 10^9 e- is a
+  // thousand times the largest full well of a real sensor and far from overflow.
+  constexpr double kMaxElectrons = 1e9;
+  if (!(exposure_e > 0.0 && exposure_e <= kMaxElectrons)) {
+    throw Error(at + "exposure_e " + Text(exposure_e) + " must be in (0, 1e9] [e- at radiance 1]");
   }
-  if (!(full_well_e >= 1.0 && std::isfinite(full_well_e))) {
-    throw Error(at + "full_well_e " + Text(full_well_e) + " must be at least 1 [e-]");
+  if (!(full_well_e >= 1.0 && full_well_e <= kMaxElectrons)) {
+    throw Error(at + "full_well_e " + Text(full_well_e) + " must be in [1, 1e9] [e-]");
   }
-  if (!(read_noise_e >= 0.0 && std::isfinite(read_noise_e))) {
-    throw Error(at + "read_noise_e " + Text(read_noise_e) + " must be at least 0 [e-]");
+  if (!(read_noise_e >= 0.0 && read_noise_e <= kMaxElectrons)) {
+    throw Error(at + "read_noise_e " + Text(read_noise_e) + " must be in [0, 1e9] [e-]");
   }
   if (!(prnu >= 0.0 && prnu <= 0.5)) throw Error(at + "prnu " + Text(prnu) + " must be in [0, 0.5]");
-  if (!(dsnu_e >= 0.0 && std::isfinite(dsnu_e))) {
-    throw Error(at + "dsnu_e " + Text(dsnu_e) + " must be at least 0 [e-]");
+  if (!(dsnu_e >= 0.0 && dsnu_e <= kMaxElectrons)) {
+    throw Error(at + "dsnu_e " + Text(dsnu_e) + " must be in [0, 1e9] [e-]");
   }
   if (adc_bits < 8 || adc_bits > 16) throw Error(at + "adc_bits " + std::to_string(adc_bits) + " must be 8 to 16");
   if (black_level_dn < 0 || std::ldexp(1.0, adc_bits) - 1.0 - black_level_dn < 1.0) {

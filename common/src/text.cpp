@@ -66,7 +66,10 @@ std::string PrintableText(std::string_view text) {
 
 std::string FormatFixed(double value, int decimals) {
   char buffer[64];
-  const auto [ptr, ec] = std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::fixed, decimals);
+  // Beyond 10^15 a double has no fixed-point digits to show: its shortest form ("1e+300") instead.
+  const auto [ptr, ec] = std::abs(value) < 1e15 || !std::isfinite(value)
+                             ? std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::fixed, decimals)
+                             : std::to_chars(buffer, buffer + sizeof(buffer), value);
   std::string s(buffer, ec == std::errc() ? ptr : buffer);
   if (s.starts_with('-') && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);
   return s;

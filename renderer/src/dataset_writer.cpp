@@ -12,20 +12,38 @@
 namespace aar {
 namespace {
 
-// Compares `wanted` against `existing` key by key (objects recursively, keys
-// missing from `existing` are new sections and fine); returns
-// "key.path: was X, now Y" for the first difference, or "" when compatible.
-std::string FirstMismatch(const nlohmann::json& wanted, const nlohmann::json& existing, const std::string& prefix) {
+// Compares `wanted` with `existing` both ways (objects recursively; a key
+// present in one and not the other is a difference); returns
+// "key.path: was X, now Y" for the first difference, or "" when equal.
+std::string FirstDifference(const nlohmann::json& wanted, const nlohmann::json& existing, const std::string& prefix) {
+  const auto where = [&](const std::string& key) { return prefix.empty() ? key : prefix + "." + key; };
   if (wanted.is_object() && existing.is_object()) {
     for (const auto& [key, value] : wanted.items()) {
-      if (!existing.contains(key)) continue;
-      const std::string where = FirstMismatch(value, existing.at(key), prefix.empty() ? key : prefix + "." + key);
-      if (!where.empty()) return where;
+      if (!existing.contains(key)) return where(key) + ": was absent, now " + value.dump();
+      const std::string difference = FirstDifference(value, existing.at(key), where(key));
+      if (!difference.empty()) return difference;
+    }
+    for (const auto& [key, value] : existing.items()) {
+      if (!wanted.contains(key)) return where(key) + ": was " + value.dump() + ", now absent";
     }
     return "";
   }
   if (wanted == existing) return "";
   return prefix + ": was " + existing.dump() + ", now " + wanted.dump();
+}
+
+// The settings of `kind` to compare: all of them when the dataset already has
+// pairs of that kind, else only those both kinds share (the other kind's run
+// made the manifest; this kind's section and inputs are new).
+nlohmann::json ComparedSettings(const nlohmann::json& manifest, const std::string& kind, bool kind_present) {
+  nlohmann::json settings = RenderSettings(manifest, kind);
+  if (!kind_present) {
+    settings.erase(kind == "calib" ? "calib" : "frames");
+    nlohmann::json rig_only = nlohmann::json::object();
+    if (settings.at("inputs").contains("rig")) rig_only["rig"] = settings.at("inputs").at("rig");
+    settings["inputs"] = rig_only;
+  }
+  return settings;
 }
 
 // True when `dir` exists and holds any entry.
@@ -38,7 +56,8 @@ bool HasEntries(const std::filesystem::path& dir) {
 
 nlohmann::json RendererIdentity() { return {{"name", "aar-render"}, {"version", AAR_VERSION}, {"git", AAR_GIT_HASH}}; }
 
-nlohmann::json MergeManifest(const std::filesystem::path& dataset, const nlohmann::json& header) {
+nlohmann::json MergeManifest(const std::filesystem::path& dataset, const std::string& kind,
+                             const nlohmann::json& header) {
   const std::filesystem::path path = dataset / kManifestName;
   nlohmann::json manifest = nlohmann::json::object();
   nlohmann::json wanted = header;
@@ -51,9 +70,11 @@ nlohmann::json MergeManifest(const std::filesystem::path& dataset, const nlohman
                    dataset.c_str(), manifest.at("renderer").dump().c_str(), header.at("renderer").dump().c_str());
       wanted["renderer"] = manifest.at("renderer");
     }
-    const std::string mismatch = FirstMismatch(wanted, manifest, "");
-    if (!mismatch.empty()) {
-      throw Error(path.string() + ": the dataset was made with other settings (" + mismatch +
+    const bool kind_present = manifest.contains(kind == "calib" ? "calib" : "frames");
+    const std::string difference = FirstDifference(ComparedSettings(wanted, kind, kind_present),
+                                                   ComparedSettings(manifest, kind, kind_present), "");
+    if (!difference.empty()) {
+      throw Error(path.string() + ": the dataset was made with other settings (" + difference +
                   "); render into a new folder or repeat the original settings");
     }
   } else if (HasEntries(dataset / kFramesDir) || HasEntries(dataset / kCalibDir)) {
@@ -67,12 +88,13 @@ nlohmann::json MergeManifest(const std::filesystem::path& dataset, const nlohman
   return manifest;
 }
 
-void OpenManifest(const std::filesystem::path& dataset, const nlohmann::json& header,
-                  const std::function<void()>& write_inputs) {
+std::string OpenManifest(const std::filesystem::path& dataset, const std::string& kind, const nlohmann::json& header,
+                         const std::function<void()>& write_inputs) {
   const FileLock lock(dataset / kManifestLockName, LockMode::kExclusive);
-  const nlohmann::json manifest = MergeManifest(dataset, header);
+  const nlohmann::json manifest = MergeManifest(dataset, kind, header);
   write_inputs();
   WriteJsonFile(dataset / kManifestName, manifest);
+  return RenderSettingsSha256(manifest, kind);
 }
 
 void CopyInput(const std::filesystem::path& dataset, const std::filesystem::path& source, const std::string& name,
@@ -113,6 +135,12 @@ bool FinalizeManifest(const std::filesystem::path& dataset) {
         continue;
       }
       const FrameSidecar s = ReadSidecar(sidecar);
+      const std::string& settings =
+          kind == std::string("calib") ? manifest.calib_settings_sha256 : manifest.frame_settings_sha256;
+      if (!s.settings_sha256.empty() && s.settings_sha256 != settings) {
+        throw Error(sidecar.string() + ": rendered with other settings than " + kManifestName +
+                    " records (settings_sha256 differs); a dataset of mixed frames cannot be finalized");
+      }
       for (const auto& [role, ref] : s.files) files[ref.path] = ref.sha256;
       files[std::filesystem::relative(sidecar, dataset).generic_string()] = Sha256File(sidecar);
     }

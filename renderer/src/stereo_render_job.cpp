@@ -33,7 +33,7 @@ constexpr float kBoardId = 3.0f;
 constexpr float kBoomId = static_cast<float>(kBoomMaskId);
 
 // Fails before anything is written when `dir` cannot be created or written.
-void CheckOutputFolder(const std::filesystem::path& dir) {
+void CheckDatasetFolderWritable(const std::filesystem::path& dir) {
   if (dir.empty()) throw Error("no output folder given");
   std::filesystem::path probe = std::filesystem::absolute(dir);
   while (!std::filesystem::exists(probe) && probe.has_parent_path() && probe != probe.parent_path()) {
@@ -212,7 +212,7 @@ RenderedPair RenderPair(Session& session, const std::vector<std::vector<RenderIt
 // Shared loop: renders the selected pairs not yet complete, then finalizes.
 template <typename MakePair>
 RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size_t count, const std::string& kind,
-                         const std::string& label, MakePair make_pair) {
+                         const std::string& settings, const std::string& label, MakePair make_pair) {
   RenderJobResult result;
   result.msaa_method = session.plan.method;
   result.device = session.context->info().name;
@@ -231,7 +231,7 @@ RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size
   if ((options.background.enabled() && kind == "frame") || session.sensor) writing.color_png = PngStrategy::kFast;
   PairWriter writer(options.output, writing);
   for (size_t index : selected) {
-    if (SidecarVerified(options.output, SidecarPath(options.output, kind, index))) {
+    if (SidecarVerified(options.output, SidecarPath(options.output, kind, index), settings)) {
       ++result.skipped;
     } else {
       auto [exposure, items, sidecar] = make_pair(index);
@@ -248,6 +248,16 @@ RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size
   if (options.progress) progress.Finish();
   result.complete = FinalizeManifest(options.output);
   return result;
+}
+
+// The rig's exact calibration; throws, naming the rig file and writing
+// nothing, for a rig it cannot describe.
+StereoCalibration IdealCalibrationOf(const StereoRig& rig, const std::filesystem::path& rig_path) {
+  try {
+    return IdealCalibration(rig);
+  } catch (const Error& e) {
+    throw Error(rig_path.string() + ": " + e.what());
+  }
 }
 
 // frames.boom of the manifest: where the boom's pose comes from and its frame.
@@ -300,7 +310,7 @@ void RenderJobOptions::Check() const {
 RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   options.Check();
   const StereoRig rig = LoadRig(options.rig);
-  const StereoCalibration ideal = IdealCalibration(rig);  // throws, writing nothing, for a rig it cannot describe
+  const StereoCalibration ideal = IdealCalibrationOf(rig, options.rig);
   const std::vector<FlightSample> path = ReadFlightPath(options.flight_path);
   options.selection.CheckWithin(path.size(), options.flight_path.string());
   if (options.shutter_ms > 0.0) CheckTimesIncrease(path, options.flight_path.string());
@@ -316,7 +326,7 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   const bool with_propellers = options.propeller_rpm > 0.0;
   std::optional<SceneModel> propeller;
   if (with_propellers) propeller = LoadSceneModel(options.propeller_model);
-  CheckOutputFolder(options.output);
+  CheckDatasetFolderWritable(options.output);
   Session session = OpenSession(options, rig, options.background);
   ReceiverModels receiver_models;
   receiver_models.airframe = session.renderer->AddModel(receiver);
@@ -361,7 +371,7 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   // Absent for an instant exposure and without propellers, likewise.
   if (options.shutter_ms > 0.0) header["frames"]["exposure"] = ExposureJson(options.shutter_ms, options.time_samples);
   if (with_propellers) header["frames"]["propellers"] = PropellersJson(options.propeller_rpm);
-  OpenManifest(options.output, header, [&] {
+  const std::string settings = OpenManifest(options.output, "frame", header, [&] {
     CopyInput(options.output, options.rig, kRigName, rig_hash);
     CopyInput(options.output, options.receiver_model, kReceiverModelName, receiver_hash);
     CopyInput(options.output, options.flight_path, kFlightPathName, path_hash);
@@ -372,52 +382,54 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
     WriteCalibration(options.output / kIdealCalibrationName, ideal);
   });
 
-  return RunPairs(options, session, path.size(), "frame", "render x" + std::to_string(options.msaa), [&](size_t i) {
-    const Eigen::Isometry3d tanker_from_receiver = IsometryFromPose(path[i].tanker_from_receiver);
-    // The scene at instant k of the exposure: tanker, receiver (instant k), boom.
-    FrameSidecar s;
-    std::vector<RenderItem> boom_items;
-    if (with_boom) {
-      s.boom = path[i].boom.value_or(BoomPose{});
-      boom_items = {{boom_index, TankerFromBoom(*s.boom), kBoomId},
-                    {boom_tube_index, TankerFromBoomTube(*s.boom), kBoomId}};
-    }
-    const auto scene_with = [&](const std::vector<RenderItem>& receiver_items) {
-      std::vector<RenderItem> items = {{tanker_index, Eigen::Isometry3d::Identity(), kTankerId}};
-      items.insert(items.end(), receiver_items.begin(), receiver_items.end());
-      items.insert(items.end(), boom_items.begin(), boom_items.end());
-      return items;
-    };
-    std::vector<std::vector<RenderItem>> exposure;
-    for (const auto& receiver_items :
-         ReceiverOverExposure(receiver_models, path, i, exposure_offsets, options.propeller_rpm))
-      exposure.push_back(scene_with(receiver_items));
-    const std::vector<RenderItem> items =
-        scene_with(ReceiverItems(receiver_models, tanker_from_receiver, options.propeller_rpm, path[i].time_s));
-    s.kind = "frame";
-    s.index = i;
-    s.time_s = path[i].time_s;
-    s.tanker_from_target = path[i].tanker_from_receiver;
-    s.range_m = (tanker_from_receiver.translation() - rig.left.tanker_from_camera.translation()).norm();
-    s.region = RegionForRange(s.range_m);
-    s.in_view_left = InViewFraction(receiver_points, rig.left, tanker_from_receiver);
-    s.in_view_right = InViewFraction(receiver_points, rig.right, tanker_from_receiver);
-    s.rig = rig;
-    return std::make_tuple(exposure, items, s);
-  });
+  return RunPairs(
+      options, session, path.size(), "frame", settings, "render x" + std::to_string(options.msaa), [&](size_t i) {
+        const Eigen::Isometry3d tanker_from_receiver = IsometryFromPose(path[i].tanker_from_receiver);
+        // The scene at instant k of the exposure: tanker, receiver (instant k), boom.
+        FrameSidecar s;
+        std::vector<RenderItem> boom_items;
+        if (with_boom) {
+          s.boom = path[i].boom.value_or(BoomPose{});
+          boom_items = {{boom_index, TankerFromBoom(*s.boom), kBoomId},
+                        {boom_tube_index, TankerFromBoomTube(*s.boom), kBoomId}};
+        }
+        const auto scene_with = [&](const std::vector<RenderItem>& receiver_items) {
+          std::vector<RenderItem> items = {{tanker_index, Eigen::Isometry3d::Identity(), kTankerId}};
+          items.insert(items.end(), receiver_items.begin(), receiver_items.end());
+          items.insert(items.end(), boom_items.begin(), boom_items.end());
+          return items;
+        };
+        std::vector<std::vector<RenderItem>> exposure;
+        for (const auto& receiver_items :
+             ReceiverOverExposure(receiver_models, path, i, exposure_offsets, options.propeller_rpm))
+          exposure.push_back(scene_with(receiver_items));
+        const std::vector<RenderItem> items =
+            scene_with(ReceiverItems(receiver_models, tanker_from_receiver, options.propeller_rpm, path[i].time_s));
+        s.kind = "frame";
+        s.settings_sha256 = settings;
+        s.index = i;
+        s.time_s = path[i].time_s;
+        s.tanker_from_target = path[i].tanker_from_receiver;
+        s.range_m = (tanker_from_receiver.translation() - rig.left.tanker_from_camera.translation()).norm();
+        s.region = RegionForRange(s.range_m);
+        s.in_view_left = InViewFraction(receiver_points, rig.left, tanker_from_receiver);
+        s.in_view_right = InViewFraction(receiver_points, rig.right, tanker_from_receiver);
+        s.rig = rig;
+        return std::make_tuple(exposure, items, s);
+      });
 }
 
 RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   options.Check();
   const StereoRig rig = LoadRig(options.rig);
-  const StereoCalibration ideal = IdealCalibration(rig);  // throws, writing nothing, for a rig it cannot describe
+  const StereoCalibration ideal = IdealCalibrationOf(rig, options.rig);
   const SceneModel board = LoadSceneModel(options.board_model);
   CalibPoseOptions pose_options;
   pose_options.far_distances_m = options.far_boards_m;
   pose_options.corner_boards = options.corner_boards;
   const std::vector<Pose> poses = CalibrationBoardPoses(rig, pose_options);
   options.selection.CheckWithin(poses.size(), "calibration board poses");
-  CheckOutputFolder(options.output);
+  CheckDatasetFolderWritable(options.output);
   Session session = OpenSession(options, rig, BackgroundOptions{});
   const int board_index = session.renderer->AddModel(board);
   const std::vector<Eigen::Vector3d> board_points = board.AllPositions();
@@ -436,25 +448,27 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
       {"texture_anisotropy", options.anisotropy},
       {"board", {{"inner_corners", {spec.inner_corners_x, spec.inner_corners_y}}, {"square_m", spec.square_m}}}};
   if (options.corner_boards) header["calib"]["corner_boards"] = true;  // absent: the earlier pose sets, unchanged
-  OpenManifest(options.output, header, [&] {
+  const std::string settings = OpenManifest(options.output, "calib", header, [&] {
     CopyInput(options.output, options.rig, kRigName, rig_hash);
     WriteCalibration(options.output / kIdealCalibrationName, ideal);
   });
 
-  return RunPairs(options, session, poses.size(), "calib", "calib x" + std::to_string(options.msaa), [&](size_t i) {
-    const Eigen::Isometry3d tanker_from_board = IsometryFromPose(poses[i]);
-    std::vector<RenderItem> items = {{board_index, tanker_from_board, kBoardId}};
-    FrameSidecar s;
-    s.kind = "calib";
-    s.index = i;
-    s.tanker_from_target = poses[i];
-    s.range_m = (tanker_from_board.translation() - rig.left.tanker_from_camera.translation()).norm();
-    s.in_view_left = InViewFraction(board_points, rig.left, tanker_from_board);
-    s.in_view_right = InViewFraction(board_points, rig.right, tanker_from_board);
-    s.rig = rig;
-    s.board = spec;
-    return std::make_tuple(std::vector<std::vector<RenderItem>>{items}, items, s);
-  });
+  return RunPairs(options, session, poses.size(), "calib", settings, "calib x" + std::to_string(options.msaa),
+                  [&](size_t i) {
+                    const Eigen::Isometry3d tanker_from_board = IsometryFromPose(poses[i]);
+                    std::vector<RenderItem> items = {{board_index, tanker_from_board, kBoardId}};
+                    FrameSidecar s;
+                    s.kind = "calib";
+                    s.settings_sha256 = settings;
+                    s.index = i;
+                    s.tanker_from_target = poses[i];
+                    s.range_m = (tanker_from_board.translation() - rig.left.tanker_from_camera.translation()).norm();
+                    s.in_view_left = InViewFraction(board_points, rig.left, tanker_from_board);
+                    s.in_view_right = InViewFraction(board_points, rig.right, tanker_from_board);
+                    s.rig = rig;
+                    s.board = spec;
+                    return std::make_tuple(std::vector<std::vector<RenderItem>>{items}, items, s);
+                  });
 }
 
 }  // namespace aar

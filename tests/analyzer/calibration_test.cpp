@@ -13,7 +13,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "../test_support.h"
+#include "aar/dataset.h"
 #include "aar/error.h"
+#include "aar/file_io.h"
 #include "aar/pose.h"
 #include "aar/rig.h"
 
@@ -359,6 +361,19 @@ TEST(Calibration, TooFewBoardsIsAnErrorNamingTheCount) {
 }
 
 /// A minimal dataset folder with `count` calibration pairs from the synthetic set.
+// The sidecar of board pair `index`, with the SHA-256 of its images as they are now.
+void WriteSidecar(const std::filesystem::path& dir, size_t index) {
+  FrameSidecar sidecar;
+  sidecar.kind = "calib";
+  sidecar.index = index;
+  sidecar.rig = Synthetic().rig;
+  for (const auto& [role, name] :
+       {std::pair{"left", Synthetic().pairs[index].left_name}, {"right", Synthetic().pairs[index].right_name}}) {
+    sidecar.files[role] = FileRef{name, Sha256File(dir / name)};
+  }
+  WriteJsonFile(SidecarPath(dir, "calib", index), SidecarToJson(sidecar));
+}
+
 void WriteDataset(const std::filesystem::path& dir, size_t count) {
   std::filesystem::create_directories(dir / kCalibDir);
   nlohmann::json manifest = {
@@ -368,6 +383,7 @@ void WriteDataset(const std::filesystem::path& dir, size_t count) {
   for (size_t i = 0; i < count; ++i) {
     EXPECT_TRUE(cv::imwrite((dir / Synthetic().pairs[i].left_name).string(), Synthetic().pairs[i].left));
     EXPECT_TRUE(cv::imwrite((dir / Synthetic().pairs[i].right_name).string(), Synthetic().pairs[i].right));
+    WriteSidecar(dir, i);
   }
 }
 
@@ -398,10 +414,18 @@ TEST(Calibration, MissingOrCorruptImageIsAnErrorNamingTheFile) {
     CalibrateFromDataset(dir, CalibrationOptions{});
     FAIL() << "expected aar::Error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("calib/000003_right.png: calibration image not found"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("calib/000003_right.png: missing"), std::string::npos) << e.what();
   }
   std::ofstream(dir / "calib" / "000003_right.png") << "not a png";
+  try {
+    CalibrateFromDataset(dir, CalibrationOptions{});
+    FAIL() << "expected aar::Error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("calib/000003_right.png: SHA-256 differs from the sidecar's"),
+              std::string::npos)
+        << e.what();
+  }
+  WriteSidecar(dir, 3);  // a sidecar that vouches for the broken file: the decoder refuses it
   try {
     CalibrateFromDataset(dir, CalibrationOptions{});
     FAIL() << "expected aar::Error";

@@ -22,6 +22,7 @@
 #include "aar/gltf_accessor.h"
 #include "aar/rig.h"
 #include "aar/stereo_calibration.h"
+#include "aar/text.h"
 
 namespace aar {
 namespace {
@@ -137,6 +138,43 @@ TEST(Rig, RefusesNonPositiveOrNonFiniteNearPlane) {
     EXPECT_TRUE(Contains(message, "r.json: ")) << message;
     EXPECT_TRUE(Contains(message, "near_m")) << message;
   }
+}
+
+TEST(Rig, RepeatedKeysAndUnknownDistortionCoefficientsAreRefused) {
+  TempDir dir;
+  const std::string rig = ReadFileBytes(SourcePath("scenes/rig-distorted.json"));
+  const size_t k1 = rig.find("\"k1\": -0.15");
+  ASSERT_NE(k1, std::string::npos);
+  WriteFileAtomic(dir / "twice.json", std::string(rig).insert(k1, "\"k1\": 0.3, "));
+  EXPECT_TRUE(Contains(ErrorOf([&] { LoadRig(dir / "twice.json"); }),
+                       (dir / "twice.json").string() + ": key \"k1\" appears twice in one object"));
+  WriteFileAtomic(dir / "k4.json", std::string(rig).insert(k1, "\"k4\": 0.3, "));
+  EXPECT_TRUE(Contains(ErrorOf([&] { LoadRig(dir / "k4.json"); }),
+                       "distortion.k4 is not a Brown-Conrady coefficient (k1, k2, p1, p2, k3)"));
+}
+
+TEST(Sensor, ElectronCountsBeyondTheFloatModelAreRefused) {
+  nlohmann::json rig = nlohmann::json::parse(ReadFileBytes(SourcePath("scenes/rig-noisy.json")));
+  for (const char* field : {"exposure_e", "full_well_e", "read_noise_e", "dsnu_e"}) {
+    nlohmann::json changed = rig;
+    changed["sensor"][field] = 1e308;
+    const std::string message = ErrorOf([&] { RigFromJson(changed, "r.json"); });
+    EXPECT_TRUE(Contains(message, std::string("r.json: sensor.") + field)) << message;
+    EXPECT_TRUE(Contains(message, "1e9]")) << message;
+  }
+}
+
+// A message quoting a file stays whole and on one line, and a huge value prints as digits.
+TEST(ErrorMessages, ControlBytesAreEscapedAndHugeValuesPrinted) {
+  EXPECT_EQ(std::string(Error(std::string("f.csv: field 'a\0b\nc'", 20)).what()), "f.csv: field 'a\\x00b\\x0Ac'");
+  EXPECT_EQ(FormatFixed(1e308, 4), "1e+308");
+  EXPECT_EQ(FormatFixed(-2.5, 1), "-2.5");
+  TempDir dir;
+  WriteFileAtomic(dir / "path.csv",
+                  "time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg,boom_pitch_deg,boom_roll_deg,boom_extension_m\n"
+                  "0,-47,0,-19,0,0,0,1e300,0,0\n");
+  const std::string message = ErrorOf([&] { ReadFlightPath(dir / "path.csv"); });
+  EXPECT_TRUE(Contains(message, "boom_pitch_deg 1e+300 must be in [0.0, 45.0]")) << message;
 }
 
 // Found by tests/fuzz (UBSan): nlohmann's get<int>() and get<size_t>() cast a

@@ -64,8 +64,8 @@ TEST(RigSensor, BadSensorEntriesAreRefusedNamingTheFileAndField) {
   EXPECT_NE(ErrorOf([&] { RigFromJson(v2, "r.json"); }).find("r.json: 'sensor' needs schema \"aar-rig/3\""),
             std::string::npos);
   const std::vector<std::pair<nlohmann::json, std::string>> bad = {
-      {{{"read_noise_e", -1.0}}, "r.json: sensor.read_noise_e -1 must be at least 0"},
-      {{{"exposure_e", 0.0}}, "r.json: sensor.exposure_e 0 must be positive"},
+      {{{"read_noise_e", -1.0}}, "r.json: sensor.read_noise_e -1 must be in [0, 1e9]"},
+      {{{"exposure_e", 0.0}}, "r.json: sensor.exposure_e 0 must be in (0, 1e9]"},
       {{{"exposur_e", 100.0}}, "r.json: sensor.exposur_e is not a sensor field"},
       {{{"adc_bits", 20}}, "r.json: sensor.adc_bits 20 is outside [8, 16]"},
       {{{"adc_bits", 10.5}}, "r.json: sensor.adc_bits must be an integer"},

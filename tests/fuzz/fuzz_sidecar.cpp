@@ -9,6 +9,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     aar::ReadSidecar(path);
   } catch (const aar::Error&) {
   }
-  aar::SidecarVerified(aar::fuzz::ScratchDir(), path);  // never throws
+  aar::SidecarVerified(aar::fuzz::ScratchDir(), path, "");  // never throws
   return 0;
 }

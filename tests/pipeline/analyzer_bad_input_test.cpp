@@ -79,31 +79,10 @@ TEST(AnalyzeBadInput, UnreadableCalibrationFailsBeforeWritingOutput) {
   }
 }
 
-TEST(AnalyzeBadInput, TooFewBoardCornersFailsCalibration) {
-  ASSERT_DATASETS();
-  TempDir dir("analyze-bad-corners");
-  const fs::path dataset = dir / "dataset";
-  test::CopyDataset(SharedDatasets().near_contact, dataset);
-  // 10 of the 12 left calibration images become plain sky of the same size.
-  const cv::Mat first = cv::imread((dataset / "calib/000000_left.png").string(), cv::IMREAD_COLOR);
-  ASSERT_FALSE(first.empty());
-  const cv::Mat sky(first.size(), first.type(), cv::Scalar(first.at<cv::Vec3b>(0, 0)));
-  for (size_t i = 2; i < 12; ++i) {
-    ASSERT_TRUE(cv::imwrite((dataset / kCalibDir / (FrameStem(i) + "_left.png")).string(), sky));
-  }
-  const std::vector<std::string> names = {dataset.string(), "only 2 of 12 calibration pairs",
-                                          "calib/000002_left.png: found no"};
-  const fs::path out = dir / "out";
-  ExpectCleanFailure(RunAnalyze("calibrate " + Quote(dataset) + " --out " + Quote(out)), names, out);
-  // A run without --calibration calibrates first: the same failure, before any output.
-  ExpectCleanFailure(RunAnalyze("run " + Quote(dataset) + " --model shelled --no-progress --out " + Quote(out)), names,
-                     out);
-}
-
-// Sets the SHA-256 of `file` in its frame's sidecar and in the manifest (and
-// the sidecar's own), as if the dataset had been written with that content.
-void RehashFrameFile(const fs::path& dataset, size_t frame, const std::string& side) {
-  const fs::path sidecar = SidecarPath(dataset, "frame", frame);
+// Sets the SHA-256 of a pair's `side` file in its sidecar and in the manifest
+// (and the sidecar's own), as if the dataset had been written with that content.
+void RehashFile(const fs::path& dataset, const std::string& kind, size_t index, const std::string& side) {
+  const fs::path sidecar = SidecarPath(dataset, kind, index);
   nlohmann::json s = ReadJsonFile(sidecar);
   const std::string file = s.at("files").at(side).at("path").get<std::string>();
   s["files"][side]["sha256"] = Sha256File(dataset / file);
@@ -112,6 +91,28 @@ void RehashFrameFile(const fs::path& dataset, size_t frame, const std::string& s
   manifest["files"][file] = Sha256File(dataset / file);
   manifest["files"][fs::relative(sidecar, dataset).generic_string()] = Sha256File(sidecar);
   WriteJsonFile(dataset / kManifestName, manifest);
+}
+
+TEST(AnalyzeBadInput, TooFewBoardCornersFailsCalibration) {
+  ASSERT_DATASETS();
+  TempDir dir("analyze-bad-corners");
+  const fs::path dataset = dir / "dataset";
+  test::CopyDataset(SharedDatasets().near_contact, dataset);
+  // 10 of the 12 left calibration images become plain sky of the same size (as rendered: the hashes agree).
+  const cv::Mat first = cv::imread((dataset / "calib/000000_left.png").string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(first.empty());
+  const cv::Mat sky(first.size(), first.type(), cv::Scalar(first.at<cv::Vec3b>(0, 0)));
+  for (size_t i = 2; i < 12; ++i) {
+    ASSERT_TRUE(cv::imwrite((dataset / kCalibDir / (FrameStem(i) + "_left.png")).string(), sky));
+    RehashFile(dataset, "calib", i, "left");
+  }
+  const std::vector<std::string> names = {dataset.string(), "only 2 of 12 calibration pairs",
+                                          "calib/000002_left.png: found no"};
+  const fs::path out = dir / "out";
+  ExpectCleanFailure(RunAnalyze("calibrate " + Quote(dataset) + " --out " + Quote(out)), names, out);
+  // A run without --calibration calibrates first: the same failure, before any output.
+  ExpectCleanFailure(RunAnalyze("run " + Quote(dataset) + " --model shelled --no-progress --out " + Quote(out)), names,
+                     out);
 }
 
 TEST(AnalyzeBadInput, BrokenFramesAreRecordedAndTheRunGoesOn) {
@@ -126,9 +127,12 @@ TEST(AnalyzeBadInput, BrokenFramesAreRecordedAndTheRunGoesOn) {
   fs::remove(frames / "000000_right.png");
   // (b) a left image replaced by bytes that are no PNG, its hashes updated: only decoding can tell
   WriteFileAtomic(frames / "000001_left.png", garbage);
-  RehashFrameFile(dataset, 1, "left");
-  // (c) a sidecar that is no JSON
+  RehashFile(dataset, "frame", 1, "left");
+  // (c) a sidecar that is no JSON, its hash in the manifest updated
   WriteFileAtomic(frames / "000002.json", "{\"schema\": \"aar-frame/1\", \"kind\": ");
+  nlohmann::json manifest = ReadJsonFile(dataset / kManifestName);
+  manifest["files"]["frames/000002.json"] = Sha256File(frames / "000002.json");
+  WriteJsonFile(dataset / kManifestName, manifest);
   // (d) one byte of a left image changed
   std::string bytes = ReadFileBytes(frames / "000003_left.png");
   bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 0x01);
@@ -300,7 +304,7 @@ TEST_F(AnalyzeRobustness, MergeRefusesUnfinishedOrForeignShardsAndItsOwnInputs) 
   WriteJsonFile(s1 / kRunJsonName, partial);
   ExpectCleanFailure(merge(dir_ / "m1"), {(s1 / kRunJsonName).string(), "incomplete run.json (no 'options')"},
                      dir_ / "m1");
-  // A run that did not finish has no run.json (it is removed first, written last).
+  // A folder without run.json is no finished run.
   fs::remove(s1 / kRunJsonName);
   ExpectCleanFailure(merge(dir_ / "m2"), {(s1 / kRunJsonName).string(), "the run did not finish"}, dir_ / "m2");
   // frames.csv of another run beside this run.json.

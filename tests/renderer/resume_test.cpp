@@ -1,13 +1,16 @@
 // Resuming into an existing dataset: a refused resume (other flight path, rig
-// or receiver) changes no file of the dataset; a dataset without manifest is
-// refused; leftovers of interrupted writes are removed; an error of the
-// writer thread stops the run and a rerun resumes; two renders with
-// different settings started together: exactly one is accepted.
+// or receiver, or an optional setting added or left out) changes no file of
+// the dataset; a resume with nothing to render touches no file; frames mixed
+// by hand are found; a dataset without manifest is refused; leftovers of
+// interrupted writes are removed; an error of the writer thread stops the run
+// and a rerun resumes; two renders with different settings started together:
+// exactly one is accepted.
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <chrono>
 #include <map>
 #include <string>
 
@@ -46,6 +49,16 @@ std::map<std::string, std::string> Snapshot(const fs::path& dataset) {
   return files;
 }
 
+// Every file's modification time (relative path -> nanoseconds).
+std::map<std::string, long long> Times(const fs::path& dataset) {
+  std::map<std::string, long long> times;
+  for (const auto& entry : fs::recursive_directory_iterator(dataset)) {
+    times[fs::relative(entry.path(), dataset).string()] =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(entry.last_write_time().time_since_epoch()).count();
+  }
+  return times;
+}
+
 // One rendered frame, shared by the tests of this file (rendered once per process).
 class RenderResume : public ::testing::Test {
  protected:
@@ -82,6 +95,63 @@ TEST_F(RenderResume, RefusedResumeChangesNoFile) {
   }
 }
 
+// The settings that only some datasets have (a background, the boom, turning
+// propellers, a shutter) compare both ways: adding one on a resume, or
+// leaving out one the dataset has, is refused and changes nothing.
+TEST_F(RenderResume, AnOptionalSettingAddedOrLeftOutIsRefused) {
+  const auto before = Snapshot(dataset_);
+  for (const auto& [extra, difference] : {std::pair{"--background sky", "frames.background: was absent, now {"},
+                                          {"--boom", "frames.boom: was absent, now {"},
+                                          {"--propellers 1200", "frames.propellers: was absent, now {"},
+                                          {"--shutter-ms 4 --time-samples 2", "frames.exposure: was absent, now {"}}) {
+    SCOPED_TRACE(extra);
+    Inputs with;
+    with.extra = extra;
+    const test::CommandResult r = RunCommand(RenderCommand(dataset_, with));
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find(std::string("made with other settings (") + difference), std::string::npos) << r.output;
+    EXPECT_EQ(Snapshot(dataset_), before) << "a refused resume changed the dataset";
+  }
+  // The other way: a dataset with the sky, resumed without it.
+  const fs::path sky = dir_ / "sky";
+  Inputs with_sky;
+  with_sky.extra = "--background sky";
+  ASSERT_EQ(RunCommand(RenderCommand(sky, with_sky)).exit_code, 0);
+  const auto sky_before = Snapshot(sky);
+  const test::CommandResult r = RunCommand(RenderCommand(sky, Inputs{}));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("made with other settings (frames.background: was {"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("}, now absent)"), std::string::npos) << r.output;
+  EXPECT_EQ(Snapshot(sky), sky_before);
+
+  // Frames mixed by hand (the sky's frame copied over this one) are found:
+  // finalize refuses them, and the analyzer's frame check names the sidecar.
+  for (const char* name : {"000600.json", "000600_left.png", "000600_right.png"}) {
+    fs::copy_file(sky / "frames" / name, dataset_ / "frames" / name, fs::copy_options::overwrite_existing);
+  }
+  const test::CommandResult finalize =
+      RunCommand(test::BinaryPath("renderer/aar-render").string() + " finalize " + dataset_.string());
+  EXPECT_EQ(finalize.exit_code, 1) << finalize.output;
+  EXPECT_NE(finalize.output.find((dataset_ / "frames" / "000600.json").string() +
+                                 ": rendered with other settings than manifest.json records"),
+            std::string::npos)
+      << finalize.output;
+  const Manifest manifest = ReadManifest(dataset_);
+  EXPECT_FALSE(SidecarVerified(dataset_, SidecarPath(dataset_, "frame", 600), manifest.frame_settings_sha256));
+}
+
+// A resume with nothing left to render leaves every file as it was, time
+// stamps included.
+TEST_F(RenderResume, AResumeThatRendersNothingTouchesNoFile) {
+  const auto before = Snapshot(dataset_);
+  const auto times = Times(dataset_);
+  const test::CommandResult r = RunCommand(RenderCommand(dataset_, Inputs{}));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("0 pairs rendered, 1 already complete"), std::string::npos) << r.output;
+  EXPECT_EQ(Snapshot(dataset_), before);
+  EXPECT_EQ(Times(dataset_), times);
+}
+
 TEST_F(RenderResume, DatasetWithoutManifestIsRefused) {
   fs::remove(dataset_ / kManifestName);
   const auto before = Snapshot(dataset_);
@@ -116,14 +186,16 @@ TEST_F(RenderResume, WriterErrorStopsTheRunWithOneLineAndResumes) {
   EXPECT_EQ(failed.exit_code, 1) << failed.output;
   EXPECT_EQ(failed.output.rfind("aar-render: error: " + blocker.string() + ": ", 0), 0u) << failed.output;
   EXPECT_EQ(std::count(failed.output.begin(), failed.output.end(), '\n'), 1) << failed.output;
-  EXPECT_TRUE(SidecarVerified(dataset_, SidecarPath(dataset_, "frame", 601)));
+  EXPECT_TRUE(
+      SidecarVerified(dataset_, SidecarPath(dataset_, "frame", 601), ReadManifest(dataset_).frame_settings_sha256));
   EXPECT_FALSE(fs::exists(SidecarPath(dataset_, "frame", 602)));
 
   fs::remove_all(blocker);
   const test::CommandResult resumed = RunCommand(RenderCommand(dataset_, three));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_NE(resumed.output.find("1 pairs rendered, 2 already complete"), std::string::npos) << resumed.output;
-  EXPECT_TRUE(SidecarVerified(dataset_, SidecarPath(dataset_, "frame", 602)));
+  EXPECT_TRUE(
+      SidecarVerified(dataset_, SidecarPath(dataset_, "frame", 602), ReadManifest(dataset_).frame_settings_sha256));
 }
 
 // Both start before either has written its manifest; whichever takes the

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "aar/boom.h"
+#include "aar/json_file.h"
 #include "aar/pose.h"
 #include "aar/rig.h"
 
@@ -78,6 +79,9 @@ struct FrameSidecar {
   /// (written as `boom`, with `tanker_from_boom` and `tanker_from_boom_tube`
   /// derived from them by boom.h); absent otherwise.
   std::optional<BoomPose> boom;
+  /// SHA-256 of the render settings that made this pair (RenderSettings of
+  /// its kind, compact JSON); empty in datasets made before it was recorded.
+  std::string settings_sha256;
   /// "left", "right"; with depth truth "left_depth", "left_mask", "left_silhouette" (and "right_...")
   std::map<std::string, FileRef> files;
 };
@@ -92,9 +96,11 @@ Pose PoseFromJson(const nlohmann::json& j, const std::string& where);
 nlohmann::json SidecarToJson(const FrameSidecar& sidecar);
 /// Reads a sidecar; throws aar::Error naming the file and the reason.
 FrameSidecar ReadSidecar(const std::filesystem::path& path);
-/// True when the sidecar exists, parses, and every file it lists exists with
-/// the recorded SHA-256 (the resume check).
-bool SidecarVerified(const std::filesystem::path& dataset, const std::filesystem::path& sidecar_path);
+/// True when the sidecar exists, parses, records `settings_sha256` (or no
+/// settings hash, in datasets made before it was recorded), and every file it
+/// lists exists with the recorded SHA-256 (the resume check).
+bool SidecarVerified(const std::filesystem::path& dataset, const std::filesystem::path& sidecar_path,
+                     const std::string& settings_sha256);
 
 /// The parts of manifest.json that readers need; `json` holds all of it.
 struct Manifest {
@@ -103,8 +109,19 @@ struct Manifest {
   size_t calib_pair_count = 0;               ///< calibration pairs (0 when none were rendered)
   bool complete = false;                     ///< every frame and pair present and hashed in `files`
   std::map<std::string, std::string> files;  ///< relative path -> SHA-256
+  std::string frame_settings_sha256;         ///< RenderSettingsSha256(json, "frame"); empty without frames
+  std::string calib_settings_sha256;         ///< RenderSettingsSha256(json, "calib"); empty without calib
   nlohmann::json json;
 };
+
+/// The manifest keys that shape the pairs of one kind ("frame" or "calib"):
+/// schema, device, image, the kind's own inputs and its section (`frames` or
+/// `calib`). A resume compares them both ways, and every sidecar records
+/// their hash (docs/dataset-format.md, "Resume").
+nlohmann::json RenderSettings(const nlohmann::json& manifest, const std::string& kind);
+/// SHA-256 of RenderSettings' compact JSON (keys sorted); empty when the
+/// manifest has no section of that kind.
+std::string RenderSettingsSha256(const nlohmann::json& manifest, const std::string& kind);
 
 /// True for 64 lower-case hex digits.
 bool IsSha256Hex(const std::string& text);
@@ -114,9 +131,15 @@ bool IsSha256Hex(const std::string& text);
 /// or `complete` with an empty `files`).
 Manifest ReadManifest(const std::filesystem::path& dataset);
 
-/// Reads a JSON file; throws aar::Error naming the file.
-nlohmann::json ReadJsonFile(const std::filesystem::path& path);
-/// Writes JSON (2-space indent, keys sorted, trailing newline) atomically.
-void WriteJsonFile(const std::filesystem::path& path, const nlohmann::json& j);
+/// Reads the file `ref` of a sidecar, checking its SHA-256 against the
+/// sidecar's and, where manifest.json lists it, the manifest's; throws
+/// aar::Error naming the file when it is missing, unreadable or changed.
+std::string ReadListedFile(const std::filesystem::path& dataset, const Manifest& manifest, const FileRef& ref);
+
+/// Reads sidecar `index` of `kind`, checking its SHA-256 against
+/// manifest.json's (where listed) and that it was rendered with the settings
+/// the manifest records; throws aar::Error naming the sidecar otherwise.
+FrameSidecar ReadListedSidecar(const std::filesystem::path& dataset, const Manifest& manifest, const std::string& kind,
+                               size_t index);
 
 }  // namespace aar

@@ -12,11 +12,14 @@
 
 namespace aar {
 
-/// Writes `bytes` to `path` atomically (temporary file + fsync + rename).
+/// Writes `bytes` to `path` atomically (temporary file + fsync + rename). A
+/// file that already holds exactly these bytes is left untouched (so a
+/// command that changes nothing changes no time stamp either).
 void WriteFileAtomic(const std::filesystem::path& path, std::string_view bytes);
 
 /// Lets `write` create the temporary file at the given path, then renames it
-/// to `path`; for writers (PNG, EXR, YAML) that want a file name.
+/// to `path` (unless `path` already holds the same bytes); for writers (PNG,
+/// EXR, YAML) that want a file name.
 void WriteFileAtomicWith(const std::filesystem::path& path,
                          const std::function<void(const std::filesystem::path& temporary)>& write);
 

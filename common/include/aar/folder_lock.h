@@ -1,7 +1,7 @@
 #pragma once
-// Advisory locks (flock) on a lock file inside a folder, so that two processes
-// never write one dataset's manifest or one analyzer output folder at the same
-// time. flock works across processes on one machine and, on Linux, on NFS
+// Advisory locks (flock) on a lock file inside a dataset folder, or beside an
+// analyzer output folder, so that two processes never write one dataset's
+// manifest or one output folder at the same time. flock works across processes on one machine and, on Linux, on NFS
 // (emulated with fcntl byte-range locks); Lustre needs the `flock` mount option.
 
 #include <filesystem>
@@ -12,7 +12,6 @@ namespace aar {
 /// Lock file names inside the locked folder.
 inline constexpr const char* kManifestLockName = ".aar-manifest.lock";  ///< dataset: manifest updates
 inline constexpr const char* kWritersLockName = ".aar-writers.lock";    ///< dataset: held by every writing run
-inline constexpr const char* kOutputLockName = ".aar-output.lock";      ///< analyzer output folder
 
 enum class LockMode {
   kShared,     ///< many holders at once (renders of disjoint frames)
@@ -47,7 +46,11 @@ class FileLock {
   std::filesystem::path path_;
 };
 
-/// Exclusive lock on DIR/kOutputLockName; throws aar::Error naming the folder
+/// The lock file of output folder DIR: PARENT/.NAME.aar-lock, beside it (an
+/// output folder is replaced as a whole, output_folder.h; its lock is not).
+std::filesystem::path OutputLockPath(const std::filesystem::path& dir);
+
+/// Exclusive lock on OutputLockPath(dir); throws aar::Error naming the folder
 /// when another process holds it ("in use by another run").
 FileLock LockOutputFolder(const std::filesystem::path& dir);
 

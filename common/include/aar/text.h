@@ -24,7 +24,8 @@ long long ParseInteger(std::string_view text, const std::string& where);
 /// messages that quote file content.
 std::string PrintableText(std::string_view text);
 
-/// Fixed-point formatting independent of the locale, "-0" printed as "0".
+/// Fixed-point formatting independent of the locale, "-0" printed as "0";
+/// beyond 10^15 in magnitude the shortest form ("1e+300").
 std::string FormatFixed(double value, int decimals);
 
 }  // namespace aar

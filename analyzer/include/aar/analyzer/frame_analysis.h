@@ -185,13 +185,12 @@ class FrameAnalyzer {
 
   /// Analyzes frame `index` of `dataset`. Never throws for a bad frame: a
   /// missing or corrupt image, a malformed sidecar, a hash mismatch against
-  /// `expected_hashes` (relative path -> SHA-256, e.g. the manifest's files),
-  /// too few sensed points or a failed registration give a result whose
+  /// `manifest`'s files, a sidecar rendered with other settings than the
+  /// manifest records (dataset.h, RenderSettings), too few sensed points or a failed registration give a result whose
   /// `status` says why. `history` holds the last good estimates (for kPreviousFrame).
   /// With `dump`, also returns the images and clouds of the frame (frame_dump.h).
-  FrameResult Analyze(const std::filesystem::path& dataset, size_t index,
-                      const std::map<std::string, std::string>& expected_hashes, const TrackHistory& history,
-                      FrameDump* dump = nullptr) const;
+  FrameResult Analyze(const std::filesystem::path& dataset, size_t index, const Manifest& manifest,
+                      const TrackHistory& history, FrameDump* dump = nullptr) const;
 
  private:
   StereoCalibration calibration_;
