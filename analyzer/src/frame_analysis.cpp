@@ -10,6 +10,7 @@
 #include "aar/analyzer/subpixel.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
+#include "aar/png_check.h"
 #include "aar/progress.h"
 #include "aar/random_stream.h"
 #include "aar/region.h"
@@ -43,6 +44,7 @@ cv::Mat ReadImage(const std::filesystem::path& dataset, const FileRef& ref, cons
                   int flags = cv::IMREAD_COLOR) {
   const std::filesystem::path path = dataset / ref.path;
   const std::string bytes = ReadListedFile(dataset, manifest, ref);
+  CheckPngStructure(bytes, path.string());
   const cv::Mat image =
       cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), flags);
   if (image.empty()) throw Error(path.string() + ": cannot decode image");

@@ -125,7 +125,7 @@ TEST(AnalyzeBadInput, BrokenFramesAreRecordedAndTheRunGoesOn) {
   const std::string garbage = "\x89PNG\r\n\x1a\n but not really a PNG image at all";
   // (a) a right image deleted
   fs::remove(frames / "000000_right.png");
-  // (b) a left image replaced by bytes that are no PNG, its hashes updated: only decoding can tell
+  // (b) a left image replaced by bytes that are no PNG, its hashes updated: only reading it can tell
   WriteFileAtomic(frames / "000001_left.png", garbage);
   RehashFile(dataset, "frame", 1, "left");
   // (c) a sidecar that is no JSON, its hash in the manifest updated
@@ -150,7 +150,7 @@ TEST(AnalyzeBadInput, BrokenFramesAreRecordedAndTheRunGoesOn) {
   const std::vector<FrameResult> results = ReadFrameResults(out / kFramesCsvName);
   ASSERT_EQ(results.size(), test::kNearContactFrames);
   const std::vector<std::vector<std::string>> expected = {{"frames/000000_right.png", "missing"},
-                                                          {"frames/000001_left.png", "cannot decode"},
+                                                          {"frames/000001_left.png", "not a whole PNG file"},
                                                           {"frames/000002.json", "not valid JSON"},
                                                           {"frames/000003_left.png", "SHA-256"},
                                                           {"frames/000004_right.png", "SHA-256"}};

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include "../test_support.h"
 #include "aar/file_io.h"
 
@@ -151,6 +153,32 @@ TEST(RenderBadOutput, FarBoardsMustBeDistancesOrNone) {
   EXPECT_NE(result.output.find("--far-boards: 'far' is not a finite number"), std::string::npos) << result.output;
   EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
   EXPECT_FALSE(std::filesystem::exists(out)) << "output was written";
+}
+
+// A rig the ideal calibration cannot describe (here the right camera's focal
+// length differs): `calib` and `render` name the rig file; `bench` refuses an
+// MSAA level it cannot render before it times anything.
+TEST(RenderBadOutput, ImpossibleRigAndBenchLevelAreRefusedByName) {
+  TempDir dir("bad-rig-level");
+  nlohmann::json rig = nlohmann::json::parse(ReadFileBytes(SourcePath("scenes/rig.json")));
+  rig["cameras"]["right"]["fx_px"] = 901.0;
+  WriteFileAtomic(dir / "uneven.json", rig.dump(2));
+  const std::string exe = test::BinaryPath("renderer/aar-render").string();
+  for (const char* command : {"calib", "render"}) {
+    const test::CommandResult result = RunCommand(exe + " " + command + " " + (dir / "out").string() +
+                                                  " --no-progress --msaa 1 --rig " + (dir / "uneven.json").string());
+    EXPECT_EQ(result.exit_code, 1) << result.output;
+    EXPECT_EQ(result.output.rfind("aar-render: error: " + (dir / "uneven.json").string() +
+                                      ": ideal calibration needs parallel cameras",
+                                  0),
+              0u)
+        << result.output;
+    EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out")) << "output was written";
+  }
+  const test::CommandResult bench = RunCommand(exe + " bench --msaa 2 --pairs 1");
+  EXPECT_EQ(bench.exit_code, 1) << bench.output;
+  EXPECT_EQ(bench.output, "aar-render: error: --msaa 2: unknown MSAA level (use 1, 4, 8, 16 or 32)\n");
 }
 
 // The command table: the top-level help lists every subcommand with its

@@ -15,6 +15,8 @@
 #include <random>
 #include <vector>
 
+#include "../test_support.h"
+#include "aar/png_check.h"
 #include "aar/renderer/scene_model.h"
 
 namespace aar {
@@ -82,6 +84,27 @@ TEST(ImageEncode, FastPngDecodesToTheSamePixels) {
     EXPECT_EQ(cv::countNonZero(decoded.reshape(1) != image.reshape(1)), 0);
   }
   EXPECT_NE(EncodePng(image, PngStrategy::kDefault), EncodePng(image, PngStrategy::kFast));
+}
+
+// The readers' structure check (png_check.h) passes every PNG the renderer
+// writes and refuses a truncated file, a flipped bit and trailing bytes.
+TEST(ImageEncode, PngStructureCheckPassesOursAndRefusesDamage) {
+  cv::Mat image(40, 60, CV_8UC3, cv::Scalar(10, 120, 230));
+  cv::randu(image(cv::Rect(0, 0, 30, 20)), 0, 255);
+  for (PngStrategy strategy : {PngStrategy::kDefault, PngStrategy::kFast}) {
+    const std::string png = EncodePng(image, strategy);
+    EXPECT_NO_THROW(CheckPngStructure(png, "ours.png"));
+    std::string flipped = png;
+    flipped[png.size() / 2] = static_cast<char>(flipped[png.size() / 2] ^ 0x10);
+    for (const auto& [bytes, reason] : {std::pair{png.substr(0, png.size() / 2), "truncated"},
+                                        {flipped, "CRC error"},
+                                        {png + "x", "1 bytes after IEND"},
+                                        {std::string("GIF89a"), "no PNG signature"}}) {
+      const std::string message = test::ErrorOf([&] { CheckPngStructure(bytes, "bad.png"); });
+      EXPECT_EQ(message.rfind("bad.png: not a whole PNG file (", 0), 0u) << message;
+      EXPECT_NE(message.find(reason), std::string::npos) << message;
+    }
+  }
 }
 
 }  // namespace
