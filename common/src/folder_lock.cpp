@@ -76,7 +76,10 @@ void FileLock::Change(LockMode mode) {
 }
 
 std::filesystem::path OutputLockPath(const std::filesystem::path& dir) {
-  const std::filesystem::path absolute = std::filesystem::absolute(dir).lexically_normal();
+  // The folder's own path (symbolic links resolved), so that every name of one folder locks one file.
+  std::error_code ec;
+  std::filesystem::path absolute = std::filesystem::weakly_canonical(std::filesystem::absolute(dir, ec), ec);
+  if (ec) absolute = std::filesystem::absolute(dir).lexically_normal();
   const std::filesystem::path folder = absolute.has_filename() ? absolute : absolute.parent_path();
   return folder.parent_path() / ("." + folder.filename().string() + ".aar-lock");
 }
