@@ -9,6 +9,7 @@
 #include <string>
 
 #include "aar/error.h"
+#include "aar/file_io.h"
 #include "aar/gltf_accessor.h"
 #include "aar/gltf_scene.h"
 
@@ -87,8 +88,7 @@ bool HasGlbMagic(const std::filesystem::path& path) {
 
 TriangleMesh LoadReceiverMesh(const std::filesystem::path& path) {
   const std::string where = path.string();
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw Error(where + ": receiver model file not found");
+  CheckRegularFile(path, "receiver model file");
 
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&SkipImage, nullptr);

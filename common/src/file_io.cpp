@@ -83,12 +83,19 @@ void WriteFileAtomicWith(const std::filesystem::path& path,
   Rename(temporary, path);
 }
 
-std::string ReadFileBytes(const std::filesystem::path& path) {
+void CheckRegularFile(const std::filesystem::path& path, const std::string& what) {
   // A FIFO or a device would block or never end: only regular files are read.
   struct stat info {};
-  if (::stat(path.c_str(), &info) != 0) throw Error(path.string() + ": cannot open (" + std::strerror(errno) + ")");
+  if (::stat(path.c_str(), &info) != 0) {
+    if (errno == ENOENT) throw Error(path.string() + ": " + what + " not found");
+    throw Error(path.string() + ": cannot open (" + std::strerror(errno) + ")");
+  }
   if (S_ISDIR(info.st_mode)) throw Error(path.string() + ": is a folder, not a file");
   if (!S_ISREG(info.st_mode)) throw Error(path.string() + ": not a regular file (a FIFO, socket or device)");
+}
+
+std::string ReadFileBytes(const std::filesystem::path& path) {
+  CheckRegularFile(path, "file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path.string() + ": cannot open (" + std::strerror(errno) + ")");
   std::ostringstream out;

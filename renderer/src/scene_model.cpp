@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "aar/error.h"
+#include "aar/file_io.h"
 #include "aar/gltf_accessor.h"
 #include "aar/gltf_scene.h"
 
@@ -165,7 +166,7 @@ std::vector<Eigen::Vector3d> SceneModel::AllPositions() const {
 
 SceneModel LoadSceneModel(const std::filesystem::path& path) {
   const std::string where = path.string();
-  if (!std::filesystem::is_regular_file(path)) throw Error(where + ": model file not found");
+  CheckRegularFile(path, "model file");
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string error, warning;

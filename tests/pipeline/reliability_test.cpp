@@ -188,6 +188,9 @@ TEST_F(Reliability, PathsTheFileSystemRefusesGetOneLine) {
                   {dataset.string(), reason}, dir_.path(), before);
     ExpectRefused(test::RunCommand(render + "calib " + Quote(dataset) + " --no-progress --frames 0:1"),
                   {dataset.string(), reason}, dir_.path(), before);
+    ExpectRefused(
+        RunAnalyze("run " + Quote(SharedDatasets().near_contact) + " --no-progress --receiver " + Quote(dataset) + out),
+        {dataset.string(), reason}, dir_.path(), before);
   }
   // A FIFO where a file is read: refused, not waited on.
   ASSERT_EQ(test::RunCommand("mkfifo " + Quote(dir_ / "fifo")).exit_code, 0);

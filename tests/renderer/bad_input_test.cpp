@@ -168,10 +168,10 @@ TEST(RenderBadOutput, ImpossibleRigAndBenchLevelAreRefusedByName) {
     const test::CommandResult result = RunCommand(exe + " " + command + " " + (dir / "out").string() +
                                                   " --no-progress --msaa 1 --rig " + (dir / "uneven.json").string());
     EXPECT_EQ(result.exit_code, 1) << result.output;
-    EXPECT_EQ(result.output.rfind("aar-render: error: " + (dir / "uneven.json").string() +
-                                      ": ideal calibration needs parallel cameras",
-                                  0),
-              0u)
+    EXPECT_EQ(
+        result.output.rfind(
+            "aar-render: error: " + (dir / "uneven.json").string() + ": ideal calibration needs parallel cameras", 0),
+        0u)
         << result.output;
     EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
     EXPECT_FALSE(std::filesystem::exists(dir / "out")) << "output was written";

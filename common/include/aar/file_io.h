@@ -23,7 +23,12 @@ void WriteFileAtomic(const std::filesystem::path& path, std::string_view bytes);
 void WriteFileAtomicWith(const std::filesystem::path& path,
                          const std::function<void(const std::filesystem::path& temporary)>& write);
 
-/// Reads a whole file; throws aar::Error naming the file.
+/// Throws aar::Error "<path>: <what> not found" when nothing is there, or
+/// names the reason when `path` cannot be a readable file (a name too long, a
+/// loop of symbolic links, a folder, a FIFO or device).
+void CheckRegularFile(const std::filesystem::path& path, const std::string& what);
+
+/// Reads a whole regular file; throws aar::Error naming the file (CheckRegularFile).
 std::string ReadFileBytes(const std::filesystem::path& path);
 
 /// Lower-case hex SHA-256 of bytes / of a file's content.
