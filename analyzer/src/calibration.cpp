@@ -8,10 +8,10 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "aar/analyzer/dataset_image.h"
 #include "aar/analyzer/disparity.h"
 #include "aar/error.h"
 #include "aar/json_number.h"
-#include "aar/png_check.h"
 #include "aar/text.h"
 
 namespace aar {
@@ -129,12 +129,7 @@ void BoardDepthRange(const BoardSpec& board, const cv::Mat& rvecs, const cv::Mat
 
 // A board image, checked against its sidecar's and the manifest's SHA-256 first.
 cv::Mat ReadImage(const std::filesystem::path& dataset, const Manifest& manifest, const FileRef& ref) {
-  const std::string bytes = ReadListedFile(dataset, manifest, ref);
-  CheckPngStructure(bytes, (dataset / ref.path).string());
-  cv::Mat image = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())),
-                               cv::IMREAD_COLOR);
-  if (image.empty()) throw Error((dataset / ref.path).string() + ": cannot decode calibration image");
-  return image;
+  return ReadListedImage(dataset, manifest, ref, cv::IMREAD_COLOR, "calibration image");
 }
 
 /// The board spec a calib sidecar records (the physical board, not truth);

@@ -7,10 +7,10 @@
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
 
+#include "aar/analyzer/dataset_image.h"
 #include "aar/analyzer/subpixel.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
-#include "aar/png_check.h"
 #include "aar/progress.h"
 #include "aar/random_stream.h"
 #include "aar/region.h"
@@ -42,13 +42,7 @@ Eigen::Isometry3d LeftFromRectLeft(const StereoCalibration& calibration) {
 // Reads one image of the pair, checking its hash against the sidecar and the manifest.
 cv::Mat ReadImage(const std::filesystem::path& dataset, const FileRef& ref, const Manifest& manifest,
                   int flags = cv::IMREAD_COLOR) {
-  const std::filesystem::path path = dataset / ref.path;
-  const std::string bytes = ReadListedFile(dataset, manifest, ref);
-  CheckPngStructure(bytes, path.string());
-  const cv::Mat image =
-      cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), flags);
-  if (image.empty()) throw Error(path.string() + ": cannot decode image");
-  return image;
+  return ReadListedImage(dataset, manifest, ref, flags, "image");
 }
 
 }  // namespace
