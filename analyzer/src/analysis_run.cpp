@@ -72,6 +72,10 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
         {"halo_radius_px", f.remove_halo ? f.halo.radius_px : 0},
         {"rounding_bias_px", f.remove_rounding_bias ? MatcherRoundingBiasPx(f.disparity.algorithm) : 0.0},
         {"subpixel", f.refine_subpixel ? (f.subpixel.slanted ? "slanted" : "symmetric") : "none"},
+        {"subpixel_interpolation", f.subpixel.interpolation == SubpixelInterpolation::kLinear
+                                       ? nlohmann::json(ToString(f.subpixel.interpolation))
+                                       : nlohmann::json{{"kind", ToString(f.subpixel.interpolation)},
+                                                        {"prefilter_sigma_px", f.subpixel.prefilter_sigma_px}}},
         {"widen_search", f.widen_disparity_search}}},
       {"reprojection",
        {{"max_depth_m", f.reprojection.max_depth_m},

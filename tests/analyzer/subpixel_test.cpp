@@ -71,7 +71,7 @@ struct Errors {
 // Refines every pixel of the image's middle from the true disparity rounded
 // to the nearest 1/16 px plus 0.3 px, and measures the result against the
 // plane's disparity at the refined left column.
-Errors Measure(const Plane& plane, bool slanted) {
+Errors Measure(const Plane& plane, bool slanted, SubpixelInterpolation interpolation = SubpixelInterpolation::kLinear) {
   double sum = 0.0, squared = 0.0, slope_u = 0.0, slope_v = 0.0;
   size_t count = 0;
   for (unsigned seed = 1; seed <= 3; ++seed) {
@@ -79,6 +79,7 @@ Errors Measure(const Plane& plane, bool slanted) {
     RenderPair(Texture(seed), plane, left, right);
     SubpixelOptions options;
     options.slanted = slanted;
+    options.interpolation = interpolation;
     const SubpixelRefiner refiner(left, right, options);
     for (int v = 40; v < 80; v += 3) {
       for (int u = 70; u < 130; u += 3) {
@@ -95,8 +96,8 @@ Errors Measure(const Plane& plane, bool slanted) {
     }
   }
   const double n = static_cast<double>(count);
-  std::printf("%s: %zu refined, error mean %+.4f rms %.4f px, slopes %+.4f %+.4f\n", slanted ? "slanted" : "flat",
-              count, sum / n, std::sqrt(squared / n), slope_u / n, slope_v / n);
+  std::printf("%s, %s: %zu refined, error mean %+.4f rms %.4f px, slopes %+.4f %+.4f\n", slanted ? "slanted" : "flat",
+              ToString(interpolation).c_str(), count, sum / n, std::sqrt(squared / n), slope_u / n, slope_v / n);
   return {sum / n, std::sqrt(squared / n), slope_u / n, slope_v / n, count};
 }
 
@@ -129,6 +130,78 @@ TEST(Subpixel, SlantedWindowsFollowTheDisparitySlope) {
   EXPECT_NEAR(slanted.slope_u, plane.a, 0.01);
   EXPECT_NEAR(slanted.slope_v, plane.b, 0.01);
   EXPECT_EQ(flat.slope_u, 0.0);
+}
+
+TEST(Subpixel, BSplineRemovesLinearInterpolationsOvershoot) {
+  // Linear interpolation lags the shift it is asked for, and the mirrored
+  // offsets add the lags: the estimate overshoots its distance from the
+  // integer it starts from (here 0.3 px above the true disparity, so the
+  // error is -0.03 px at most fractions). The cubic B-spline follows the
+  // band-limited texture's shift.
+  for (const double fraction : {0.2, 0.37, 0.45, 0.55, 0.63, 0.8}) {
+    const Plane plane{0.0, 0.0, 20.0 + fraction};
+    const Errors linear = Measure(plane, true);
+    const Errors spline = Measure(plane, true, SubpixelInterpolation::kCubicBSpline);
+    EXPECT_GT(spline.refined, 600u);
+    EXPECT_GT(std::abs(linear.mean), 0.01) << fraction;
+    EXPECT_LT(std::abs(spline.mean), 0.3 * std::abs(linear.mean)) << fraction;
+    EXPECT_LT(spline.rms, linear.rms) << fraction;
+  }
+}
+
+TEST(SubpixelBSpline, InterpolatesSamplesAndCubics) {
+  // Without a prefilter the spline passes through the samples, and it
+  // reproduces a cubic (here a quadratic) exactly away from the ends.
+  std::vector<uint8_t> row(40);
+  for (int x = 0; x < 40; ++x) row[static_cast<size_t>(x)] = static_cast<uint8_t>(0.15 * (x - 20) * (x - 20));
+  std::vector<float> c(row.size());
+  SplineRowCoefficients(row.data(), 40, 0.0, c.data());
+  for (const double x : {10.0, 12.25, 17.5, 20.0, 26.8}) {
+    float value = 0.0f, derivative = 0.0f;
+    SampleSpline(c.data(), x, &value, &derivative);
+    if (x == std::floor(x)) {
+      EXPECT_NEAR(value, row[static_cast<size_t>(x)], 1e-4) << x;
+    } else {
+      // Between samples the quadratic's integer rounding is not a quadratic;
+      // compare with the spline of the unrounded samples' neighbours.
+      const double a = x - std::floor(x), y0 = row[static_cast<size_t>(x)], y1 = row[static_cast<size_t>(x) + 1];
+      EXPECT_GT(value, std::min(y0, y1) - 1.0) << x;
+      EXPECT_LT(value, std::max(y0, y1) + 1.0) << x;
+      EXPECT_NEAR(derivative, 0.3 * (x - 20), 1.0 + a) << x;
+    }
+  }
+}
+
+TEST(SubpixelBSpline, PrefilterMakesNoiseVarianceFlat) {
+  // White noise interpolated at fraction a has variance sum_k h_a[k]^2,
+  // h_a the response to a unit sample k; the default prefilter is the
+  // smallest tenth of a pixel that keeps its spread over a below 2.5 %.
+  const auto spread = [](double sigma) {
+    const int n = 81, centre = 40;
+    std::vector<std::vector<float>> responses;
+    for (int k = 0; k < n; ++k) {
+      std::vector<uint8_t> row(n, 0);
+      row[static_cast<size_t>(k)] = 1;
+      responses.emplace_back(n);
+      SplineRowCoefficients(row.data(), n, sigma, responses.back().data());
+    }
+    double lowest = 1e9, highest = 0.0;
+    for (int step = 0; step <= 10; ++step) {
+      double variance = 0.0;
+      for (const auto& c : responses) {
+        float value = 0.0f, derivative = 0.0f;
+        SampleSpline(c.data(), centre + 0.05 * step, &value, &derivative);
+        variance += static_cast<double>(value) * value;
+      }
+      lowest = std::min(lowest, variance);
+      highest = std::max(highest, variance);
+    }
+    return (highest - lowest) / (0.5 * (highest + lowest));
+  };
+  const double chosen = SubpixelOptions{}.prefilter_sigma_px;
+  EXPECT_LT(spread(chosen), 0.025);
+  EXPECT_GT(spread(chosen - 0.1), 0.025);
+  EXPECT_GT(spread(0.0), 0.2);  // the spline alone: about 28 %
 }
 
 TEST(Subpixel, ARegionOfTheImagesRefinesLikeTheWholeImages) {
@@ -165,6 +238,33 @@ TEST(Subpixel, ARegionOfTheImagesRefinesLikeTheWholeImages) {
   EXPECT_FALSE(part.Refine(region.x + 3, 60, 10.0).has_value());
 }
 
+TEST(Subpixel, ARegionRefinesLikeTheWholeImagesWithTheSpline) {
+  // The spline's rows end at the region's edge (mirrored there), which the
+  // window's margin keeps a few pixels away: the answers agree to far below
+  // the disparity's noise, not to the bit.
+  const Plane plane{0.08, 0.12, 14.61 - 0.08 * 100.0 - 0.12 * 60.0};
+  cv::Mat left, right;
+  RenderPair(Texture(7), plane, left, right);
+  const cv::Rect region(30, 20, 120, 90);
+  SubpixelOptions options;
+  options.interpolation = SubpixelInterpolation::kCubicBSpline;
+  const SubpixelRefiner whole(left, right, options);
+  const SubpixelRefiner part(left(region).clone(), right(region).clone(), options, region.tl());
+  size_t compared = 0;
+  for (int v = 40; v < 80; v += 3) {
+    for (int u = 70; u < 130; u += 3) {
+      const double start = std::round(16.0 * plane.At(u, v)) / 16.0 + 0.3;
+      const auto a = part.Refine(u, v, start);
+      const auto b = whole.Refine(u, v, start);
+      ASSERT_EQ(a.has_value(), b.has_value()) << u << " " << v;
+      if (!a) continue;
+      EXPECT_NEAR(a->disparity_px, b->disparity_px, 1e-3) << u << " " << v;
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 200u);
+}
+
 TEST(Subpixel, RejectsInvalidOptions) {
   SubpixelOptions options;
   options.max_slope = 0.0;
@@ -172,6 +272,11 @@ TEST(Subpixel, RejectsInvalidOptions) {
   options.max_slope = 0.5;
   options.half_window_px = 0;
   EXPECT_THROW(options.Check(), Error);
+  options.half_window_px = 4;
+  options.prefilter_sigma_px = -0.1;
+  EXPECT_THROW(options.Check(), Error);
+  EXPECT_THROW(ParseSubpixelInterpolation("cubic"), Error);
+  EXPECT_EQ(ParseSubpixelInterpolation("bspline"), SubpixelInterpolation::kCubicBSpline);
 }
 
 }  // namespace
