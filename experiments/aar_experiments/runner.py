@@ -243,8 +243,8 @@ def calibrate(ctx, dataset, out):
 
 
 # The pipeline docs/results.md was measured with: the thesis preset with the
-# first version's loose shell, sensed-to-model pairing and 1/32 px disparity
-# offset (`aar-analyze run --help`; docs/analysis.md, "Presets").
+# loose shell, sensed-to-model pairing and 1/32 px disparity offset
+# (`aar-analyze run --help`; docs/analysis.md, "Presets").
 PUBLISHED_PIPELINE = ("--preset", "thesis", "--shell", "loose", "--disparity-offset", "0.03125")
 PUBLISHED_PAIRING = ("--correspondence", "sensed_to_model")
 
