@@ -71,6 +71,7 @@ struct RunFlags {
   std::string calibration, receiver, frames, shard, disparity = "bm";
   std::optional<std::string> subpixel_window;
   std::optional<std::string> subpixel_interpolation;
+  std::optional<bool> window_bias;
   std::optional<std::string> seed, registration, correspondence, pairing, residual;
   std::optional<int> icp_iterations, num_disparities, block_size, halo_radius;
   std::optional<double> max_correspondence_m, disparity_offset_px, disparity_noise_px, gate_sigmas, model_pull_scale_m;
@@ -142,6 +143,9 @@ struct RunFlags {
     cmd->add_option(
         "--subpixel-interpolation", subpixel_interpolation,
         "sub-pixel sampling: linear (default) or bspline (Gaussian-prefiltered cubic B-spline of each row)");
+    cmd->add_option("--window-bias", window_bias,
+                    "subtract each refined disparity's window bias predicted on the model at the registered pose, "
+                    "and register again (default: false)");
     cmd->add_option("--widen-search", widen, "match near frames again with a wider disparity search (default: true)");
     cmd->add_option("--disparity-offset", disparity_offset_px,
                     "also subtracted from every disparity, refined or not [px] (0)");
@@ -225,6 +229,7 @@ struct RunFlags {
       f.subpixel.slanted = *subpixel_window == "slanted";
     }
     if (subpixel_interpolation) f.subpixel.interpolation = aar::ParseSubpixelInterpolation(*subpixel_interpolation);
+    if (window_bias) f.correct_window_bias = *window_bias;
     if (widen) f.widen_disparity_search = *widen;
     if (balance) f.plane_icp.balance_directions = *balance;
     if (gate_sigmas) f.plane_icp.gate_sigmas = *gate_sigmas;

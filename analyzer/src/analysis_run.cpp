@@ -76,6 +76,9 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
                                        ? nlohmann::json(ToString(f.subpixel.interpolation))
                                        : nlohmann::json{{"kind", ToString(f.subpixel.interpolation)},
                                                         {"prefilter_sigma_px", f.subpixel.prefilter_sigma_px}}},
+        {"window_bias", f.correct_window_bias ? nlohmann::json{{"min_model_fraction", f.window_bias.min_model_fraction},
+                                                               {"max_bias_px", f.window_bias.max_bias_px}}
+                                              : nlohmann::json(false)},
         {"widen_search", f.widen_disparity_search}}},
       {"reprojection",
        {{"max_depth_m", f.reprojection.max_depth_m},
@@ -353,6 +356,7 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
                  reference.points_in_receiver.size());
   }
   FrameAnalyzer analyzer(calibration, rig.left.tanker_from_camera, reference, options.frame, &full_surface);
+  if (options.frame.correct_window_bias) analyzer.EnableWindowBiasCorrection(mesh);
   if (options.frame.mask_boom) {
     // CheckDatasetInputs has checked the copies against the hashes the manifest records.
     if (!HasBoom(manifest)) {

@@ -9,6 +9,7 @@
 
 #include "aar/analyzer/dataset_image.h"
 #include "aar/analyzer/subpixel.h"
+#include "aar/analyzer/window_bias.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
 #include "aar/progress.h"
@@ -37,6 +38,19 @@ Eigen::Isometry3d LeftFromRectLeft(const StereoCalibration& calibration) {
     for (int j = 0; j < 3; ++j) left_from_rect_left.linear()(i, j) = r1.at<double>(j, i);
   }
   return left_from_rect_left;
+}
+
+// Near plane of the model's z-buffer (window bias): the receiver is metres away [m].
+constexpr double kModelNearM = 0.1;
+
+Eigen::Matrix4d ToEigen4(const cv::Mat& m) {
+  cv::Mat m64;
+  m.convertTo(m64, CV_64F);
+  Eigen::Matrix4d e;
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) e(i, j) = m64.at<double>(i, j);
+  }
+  return e;
 }
 
 // Reads one image of the pair, checking its hash against the sidecar and the manifest.
@@ -111,6 +125,7 @@ void FrameAnalysisOptions::Check() const {
   plane_icp.Check();
   boom_mask.Check();
   propeller_mask.Check();
+  window_bias.Check();
   if (!(truth_cloud_noise_px >= 0.0 && truth_cloud_noise_px <= 10.0))
     throw Error("--truth-cloud-noise must be in [0, 10] px");
   if (truth_cloud_noise_px > 0.0 && !register_truth_cloud) throw Error("--truth-cloud-noise needs --truth-cloud");
@@ -174,6 +189,25 @@ FrameAnalyzer::Registered FrameAnalyzer::RegisterFrom(const std::vector<Eigen::V
   }
   const PlaneIcpResult r = plane_icp_->Register(sensed, initial);
   return {r.tanker_from_receiver, r.iterations, r.converged, r.rmse_m, r.num_inliers};
+}
+
+void FrameAnalyzer::MaskPropellersAndRegister(const std::vector<Eigen::Vector3d>& sensed, Registered& icp) const {
+  if (!options_.mask_propellers) return;
+  const PropellerMaskOptions& m = options_.propeller_mask;
+  for (int pass = 0; pass < m.passes; ++pass) {
+    const double axial_half_width_m = pass == 0 ? m.first_axial_half_width_m : m.axial_half_width_m;
+    const Registered masked =
+        RegisterFrom(OutsidePropellerDiscs(sensed, icp.tanker_from_receiver, tanker_from_rect_left_.translation(), m,
+                                           axial_half_width_m),
+                     icp.tanker_from_receiver);
+    // A registration that moves the discs out of the mask that made it is not trusted: keep the last pose.
+    if (!PropellerMaskAgrees(icp.tanker_from_receiver, masked.tanker_from_receiver, axial_half_width_m)) break;
+    icp = masked;
+  }
+}
+
+void FrameAnalyzer::EnableWindowBiasCorrection(TriangleMesh receiver) {
+  receiver_mesh_ = std::make_unique<TriangleMesh>(std::move(receiver));
 }
 
 void FrameAnalyzer::EnableBoomMask(TriangleMesh boom, TriangleMesh tube) {
@@ -264,18 +298,43 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
 
     start = std::chrono::steady_clock::now();
     icp = Register(cloud.points_in_tanker, seed);
-    if (options_.mask_propellers) {
-      const PropellerMaskOptions& m = options_.propeller_mask;
-      for (int pass = 0; pass < m.passes; ++pass) {
-        const double axial_half_width_m = pass == 0 ? m.first_axial_half_width_m : m.axial_half_width_m;
-        const Registered masked =
-            RegisterFrom(OutsidePropellerDiscs(cloud.points_in_tanker, icp.tanker_from_receiver,
-                                               tanker_from_rect_left_.translation(), m, axial_half_width_m),
-                         icp.tanker_from_receiver);
-        // A registration that moves the discs out of the mask that made it is not trusted: keep the last pose.
-        if (!PropellerMaskAgrees(icp.tanker_from_receiver, masked.tanker_from_receiver, axial_half_width_m)) break;
-        icp = masked;
+    MaskPropellersAndRegister(cloud.points_in_tanker, icp);
+    if (options_.correct_window_bias && refiner && receiver_mesh_ && !options_.register_truth_cloud) {
+      // The window's bias predicted from the model at the registered pose
+      // (window_bias.h), subtracted, and the cloud registered again from there.
+      WindowBiasOptions window_bias = options_.window_bias;
+      window_bias.half_window_px = options_.subpixel.half_window_px;
+      window_bias.slanted = options_.subpixel.slanted;
+      const cv::Mat model_disparity =
+          ModelDisparity(*receiver_mesh_, calibration_, tanker_from_rect_left_.inverse() * icp.tanker_from_receiver,
+                         region, kModelNearM);
+      const std::vector<double> bias =
+          PredictWindowBias(rect_left, rect_right, model_disparity, region.tl(), cloud.pixels, window_bias);
+      const Eigen::Matrix4d q = ToEigen4(calibration_.Q);
+      double largest_move_m = 0.0;  // of a sensed point by its correction
+      for (size_t k = 0; k < bias.size(); ++k) {
+        Eigen::Vector3d& pixel = cloud.pixels[k];
+        pixel.z() -= bias[k];
+        const Eigen::Vector4d h = q * Eigen::Vector4d(pixel.x(), pixel.y(), pixel.z(), 1.0);
+        const Eigen::Vector3d corrected = tanker_from_rect_left_ * Eigen::Vector3d(h.head<3>() / h.w());
+        largest_move_m = std::max(largest_move_m, (corrected - cloud.points_in_tanker[k]).norm());
+        cloud.points_in_tanker[k] = corrected;
       }
+      if (truth) r.stereo_truth = CompareWithTruth(cloud.pixels, *truth, calibration_, {}, nullptr);
+      if (dump != nullptr) dump->sensed_in_tanker = cloud.points_in_tanker;
+      Registered corrected = RegisterFrom(cloud.points_in_tanker, icp.tanker_from_receiver);
+      MaskPropellersAndRegister(cloud.points_in_tanker, corrected);
+      // Corrections of at most largest_move_m cannot move the receiver by
+      // more than about that much: a registration that jumps further has
+      // slid into another minimum (a far receiver's few points), and the
+      // first one stands.
+      double model_move_m = 0.0;
+      const Eigen::Isometry3d change = corrected.tanker_from_receiver * icp.tanker_from_receiver.inverse();
+      for (const Eigen::Vector3d& m : model_points_) {
+        const Eigen::Vector3d at = icp.tanker_from_receiver * m;
+        model_move_m = std::max(model_move_m, (change * at - at).norm());
+      }
+      if (model_move_m <= 2.0 * largest_move_m) icp = corrected;
     }
     r.times.icp_ms += MillisecondsSince(start);
     // Near frames: part of the receiver beyond the search gives no (or

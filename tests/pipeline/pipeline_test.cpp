@@ -144,6 +144,45 @@ TEST(Pipeline, HaloRemovalLeavesFewPointsOffTheReceiver) {
   EXPECT_LT(cleaned.Fraction(), 0.05);
 }
 
+// --window-bias: on region C's ideal renders (exact calibration) the
+// refined disparities err low by about 0.02 px (the window's bias on the
+// receiver's convex surfaces, docs/analysis.md); the correction predicted
+// from the model at the registered pose halves that mean and moves the
+// receiver forward towards the truth, and run.json records it.
+TEST(Pipeline, WindowBiasCorrectionRemovesTheDisparitiesMeanError) {
+  ASSERT_DATASETS();
+  TempDir dir("pipeline-window-bias");
+  const fs::path dataset = SharedDatasets().near_contact;
+  const std::string flags = "--model shelled --calibration " + Quote(dataset / "calibration_ideal.yaml");
+  ASSERT_TRUE(AnalyzeRun(dataset, dir / "default", flags));
+  ASSERT_TRUE(AnalyzeRun(dataset, dir / "corrected", flags + " --window-bias true"));
+  struct Means {
+    double disparity_px = 0.0, x_m = 0.0;
+  };
+  const auto means = [](const fs::path& frames_csv) {
+    StereoTruthStats truth;
+    Means m;
+    const std::vector<FrameResult> frames = ReadFrameResults(frames_csv);
+    for (const FrameResult& f : frames) {
+      EXPECT_EQ(f.status, "ok") << "frame " << f.frame;
+      truth.Add(f.stereo_truth);
+      m.x_m += f.error[0] / static_cast<double>(frames.size());
+    }
+    m.disparity_px = truth.MeanErrorPx();
+    return m;
+  };
+  const Means raw = means(dir / "default" / kFramesCsvName);
+  const Means corrected = means(dir / "corrected" / kFramesCsvName);
+  std::printf("disparity mean error %+.4f -> %+.4f px, x error %+.3f -> %+.3f m\n", raw.disparity_px,
+              corrected.disparity_px, raw.x_m, corrected.x_m);
+  EXPECT_LT(raw.disparity_px, -0.01);
+  EXPECT_LT(std::abs(corrected.disparity_px), 0.6 * std::abs(raw.disparity_px));
+  EXPECT_LT(std::abs(corrected.x_m), 0.8 * std::abs(raw.x_m));
+  const nlohmann::json run = ReadJsonFile(dir / "corrected" / kRunJsonName);
+  EXPECT_TRUE(run.at("options").at("disparity").at("window_bias").is_object());
+  EXPECT_EQ(ReadJsonFile(dir / "default" / kRunJsonName).at("options").at("disparity").at("window_bias"), false);
+}
+
 // Tracking from a wrong last estimate (8 m aside, 3 m down, 14 deg of yaw: within the
 // seed's attitude limit) leaves the ICP's gate no pair; the frame must not be
 // reported from where the ICP started, but measured again from the centroid

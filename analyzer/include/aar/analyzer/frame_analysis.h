@@ -21,6 +21,7 @@
 #include "aar/analyzer/reference_model.h"
 #include "aar/analyzer/reprojection.h"
 #include "aar/analyzer/stereo_truth.h"
+#include "aar/analyzer/window_bias.h"
 #include "aar/dataset.h"
 #include "aar/stereo_calibration.h"
 
@@ -73,6 +74,11 @@ struct FrameAnalysisOptions {
   /// registered receiver (docs/analysis.md item 5). The thesis preset: off.
   bool refine_subpixel = true;
   SubpixelOptions subpixel;
+  /// With refine_subpixel: predict each refined disparity's window bias on
+  /// the model at the registered pose, subtract it and register again
+  /// (window_bias.h); needs FrameAnalyzer::EnableWindowBiasCorrection.
+  bool correct_window_bias = false;
+  WindowBiasOptions window_bias;
   /// Re-projection: <= 750 m and <= 1.5 times the cloud's median depth;
   /// about 4000 points (one in eight or more).
   ReprojectionOptions reprojection = [] {
@@ -183,6 +189,9 @@ class FrameAnalyzer {
   /// boom_tube.glb.
   void EnableBoomMask(TriangleMesh boom, TriangleMesh tube);
 
+  /// The receiver's mesh for options.correct_window_bias.
+  void EnableWindowBiasCorrection(TriangleMesh receiver);
+
   /// Analyzes frame `index` of `dataset`. Never throws for a bad frame: a
   /// missing or corrupt image, a malformed sidecar, a hash mismatch against
   /// `manifest`'s files, a sidecar rendered with other settings than the
@@ -203,6 +212,7 @@ class FrameAnalyzer {
   std::unique_ptr<PlaneIcpRegistration> plane_icp_;
   FrameAnalysisOptions options_;
   std::unique_ptr<BoomMasker> boom_masker_;
+  std::unique_ptr<TriangleMesh> receiver_mesh_;
 
   struct Registered {
     Eigen::Isometry3d tanker_from_receiver;
@@ -213,6 +223,9 @@ class FrameAnalyzer {
   };
   Registered Register(const std::vector<Eigen::Vector3d>& sensed, const std::optional<Pose>& previous) const;
   Registered RegisterFrom(const std::vector<Eigen::Vector3d>& sensed, const Eigen::Isometry3d& initial) const;
+  // options.mask_propellers: registers again without the points in the
+  // propeller discs at `icp`'s pose, pass by pass, while the masks agree.
+  void MaskPropellersAndRegister(const std::vector<Eigen::Vector3d>& sensed, Registered& icp) const;
   // Rectify, match, re-project and register in `roi` (empty: the whole image).
   Registered Measure(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, const std::optional<Pose>& seed,
                      const std::optional<DepthTruth>& truth, const std::string& left_path, const BoomMasks* boom,
