@@ -7,6 +7,7 @@
 #include <set>
 #include <utility>
 
+#include "aar/analyzer/bop_metrics.h"
 #include "aar/analyzer/mesh.h"
 #include "aar/analyzer/ply.h"
 #include "aar/error.h"
@@ -125,7 +126,37 @@ std::string DescribeSelection(const FrameSelection& s) {
   return text;
 }
 
-void WriteSummary(const std::filesystem::path& out, const nlohmann::json& run, const ModelSummary& summary) {
+// run.json's "bop": what the BOP scores and results file need (bop_metrics.h).
+nlohmann::json BopJson(const BopObject& object, const Camera& left) {
+  const Eigen::Matrix4d camera_from_tanker = left.tanker_from_camera.inverse().matrix();
+  nlohmann::json matrix = nlohmann::json::array();
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 4; ++k) matrix.push_back(camera_from_tanker(i, k));
+  return {{"object", "the receiver mesh's distinct vertices"},
+          {"vertices", object.vertices().size()},
+          {"diameter_m", object.diameter_m()},
+          {"image_width_px", left.intrinsics.width_px},
+          {"camera_from_tanker", matrix}};
+}
+
+BopScale BopScaleOf(const nlohmann::json& run) {
+  const nlohmann::json& bop = run.at("bop");
+  return {bop.at("diameter_m").get<double>(), bop.at("image_width_px").get<int>()};
+}
+
+Eigen::Isometry3d CameraFromTanker(const nlohmann::json& run) {
+  const nlohmann::json& matrix = run.at("bop").at("camera_from_tanker");
+  Eigen::Matrix4d m;
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 4; ++k) m(i, k) = matrix.at(static_cast<size_t>(4 * i + k)).get<double>();
+  return Eigen::Isometry3d(m);
+}
+
+void WriteSummary(const std::filesystem::path& out, const nlohmann::json& run, const ModelSummary& summary,
+                  const std::vector<FrameResult>& frames) {
+  // From the estimates as frames.csv stores them, so that a merge of shards writes the same file.
+  WriteFileAtomic(out / kBopResultsName, FormatBopResults(ParseFrameResults(FormatFrameResults(frames), kFramesCsvName),
+                                                          CameraFromTanker(run)));
   Summary all;
   all.models.push_back(summary);
   nlohmann::json json = SummaryToJson(all);
@@ -183,13 +214,27 @@ nlohmann::json ReadRunJson(const std::filesystem::path& dir) {
     throw Error(path.string() + ": missing (the run did not finish, or this is not a run folder)");
   }
   nlohmann::json run = ReadJsonFile(path);
-  for (const char* key : {"schema", "dataset_manifest_sha256", "model", "calibration", "options", "frames_analyzed"}) {
+  for (const char* key :
+       {"schema", "dataset_manifest_sha256", "model", "calibration", "options", "frames_analyzed", "bop"}) {
     if (!run.is_object() || !run.contains(key)) throw Error(path.string() + ": incomplete run.json (no '" + key + "')");
   }
   if (run.at("schema") != "aar-run/1") throw Error(path.string() + ": schema is not aar-run/1");
   if (!run.at("model").is_string() || !run.at("dataset_manifest_sha256").is_string() ||
       !run.at("frames_analyzed").is_number_unsigned()) {
     throw Error(path.string() + ": malformed run.json (model, dataset_manifest_sha256 or frames_analyzed)");
+  }
+  const nlohmann::json& bop = run.at("bop");
+  const bool bop_ok = bop.is_object() && bop.contains("diameter_m") && bop.at("diameter_m").is_number() &&
+                      bop.at("diameter_m").get<double>() > 0.0 && bop.contains("image_width_px") &&
+                      bop.at("image_width_px").is_number_unsigned() && bop.at("image_width_px").get<int>() > 0 &&
+                      bop.contains("camera_from_tanker") && bop.at("camera_from_tanker").is_array() &&
+                      bop.at("camera_from_tanker").size() == 16 &&
+                      std::all_of(bop.at("camera_from_tanker").begin(), bop.at("camera_from_tanker").end(),
+                                  [](const nlohmann::json& v) { return v.is_number(); });
+  if (!bop_ok) {
+    throw Error(path.string() +
+                ": malformed run.json ('bop' needs diameter_m > 0, image_width_px > 0 and a 16-number "
+                "camera_from_tanker)");
   }
   return run;
 }
@@ -355,6 +400,8 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
     std::fprintf(stderr, "reference model '%s': %zu points\n", reference.name.c_str(),
                  reference.points_in_receiver.size());
   }
+  const BopObject bop_object(mesh);
+  const Eigen::Isometry3d left_from_tanker = rig.left.tanker_from_camera.inverse();
   FrameAnalyzer analyzer(calibration, rig.left.tanker_from_camera, reference, options.frame, &full_surface);
   if (options.frame.correct_window_bias) analyzer.EnableWindowBiasCorrection(mesh);
   if (options.frame.mask_boom) {
@@ -380,7 +427,8 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
                               {"calibration", calibration_source},
                               {"frames", DescribeSelection(options.selection)},
                               {"frames_analyzed", selected.size()},
-                              {"options", OptionsJson(options)}};
+                              {"options", OptionsJson(options)},
+                              {"bop", BopJson(bop_object, rig.left)}};
   // Written into a staging folder and put in place at the end (output_folder.h).
   std::optional<StagedOutput> staged;
   std::filesystem::path out;
@@ -432,15 +480,20 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
       history = TrackHistory{};
       if (options.progress) std::fprintf(stderr, "frame %zu not measured: %s\n", index, frame.status.c_str());
     }
+    if (frame.has_estimate) {
+      frame.bop_errors =
+          ComputePoseErrorMetrics(bop_object, rig.left.intrinsics, left_from_tanker * IsometryFromPose(frame.estimate),
+                                  left_from_tanker * IsometryFromPose(frame.truth));
+    }
     result.frames.push_back(std::move(frame));
     if (options.progress) progress.Advance();
   }
   if (options.progress) progress.Finish();
   FilterFrameResults(result.frames, options.filter);
-  result.summary = SummarizeFrames(reference.name, result.frames);
+  result.summary = SummarizeFrames(reference.name, result.frames, BopScaleOf(run));
   if (options.write_outputs) {
     WriteFrameResults(out / kFramesCsvName, result.frames);
-    WriteSummary(out, run, result.summary);
+    WriteSummary(out, run, result.summary, result.frames);
     WriteJsonFile(out / kRunJsonName, run);
     staged->Commit();
   }
@@ -479,7 +532,7 @@ void MergeRuns(const std::vector<std::filesystem::path>& shard_dirs, const std::
     if (first_run.is_null()) {
       first_run = run;
     } else {
-      for (const char* key : {"dataset_manifest_sha256", "model", "calibration", "options"}) {
+      for (const char* key : {"dataset_manifest_sha256", "model", "calibration", "options", "bop"}) {
         if (run.at(key) != first_run.at(key)) {
           throw Error((dir / kRunJsonName).string() + ": '" + key + "' differs from " +
                       (shard_dirs.front() / kRunJsonName).string());
@@ -504,7 +557,8 @@ void MergeRuns(const std::vector<std::filesystem::path>& shard_dirs, const std::
   first_run["frames"] = "merged from " + std::to_string(shard_dirs.size()) + " shards";
   first_run["frames_analyzed"] = frames_analyzed;
   WriteFrameResults(staged.path() / kFramesCsvName, merged);
-  WriteSummary(staged.path(), first_run, SummarizeFrames(first_run.at("model").get<std::string>(), merged));
+  WriteSummary(staged.path(), first_run,
+               SummarizeFrames(first_run.at("model").get<std::string>(), merged, BopScaleOf(first_run)), merged);
   WriteJsonFile(staged.path() / kRunJsonName, first_run);
   staged.Commit();
 }

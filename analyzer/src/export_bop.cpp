@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "aar/analyzer/bop_metrics.h"
 #include "aar/analyzer/stereo_truth.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
@@ -67,20 +68,8 @@ nlohmann::json ModelInfo(const TriangleMesh& mesh) {
     lo = lo.cwiseMin(v);
     hi = hi.cwiseMax(v);
   }
-  // Diameter: the largest distance between two vertices (BOP's definition),
-  // over the distinct positions.
-  std::vector<Eigen::Vector3d> unique = mesh.vertices;
-  std::sort(unique.begin(), unique.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
-  });
-  unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
-  double diameter_sq = 0.0;
-  for (size_t i = 0; i < unique.size(); ++i) {
-    for (size_t k = i + 1; k < unique.size(); ++k)
-      diameter_sq = std::max(diameter_sq, (unique[i] - unique[k]).squaredNorm());
-  }
   const Eigen::Vector3d size = hi - lo;
-  return {{"diameter", std::sqrt(diameter_sq) * 1000.0},
+  return {{"diameter", BopObject(mesh).diameter_m() * 1000.0},
           {"min_x", lo.x() * 1000.0},
           {"min_y", lo.y() * 1000.0},
           {"min_z", lo.z() * 1000.0},

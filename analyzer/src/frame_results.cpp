@@ -15,8 +15,13 @@ namespace {
 
 constexpr int kValueDecimals = 6;     // seconds, metres, degrees
 constexpr int kTimeDecimals = 3;      // milliseconds
-constexpr size_t kColumns = 52;       // 53 with receiver_occluded_fraction
+constexpr size_t kColumns = 56;       // 57 with receiver_occluded_fraction
 constexpr size_t kFilterColumn = 34;  // first filt_est_* column
+constexpr size_t kBopColumn = 46;     // mssd_m, then mspd_px, add_m, adds_m
+
+const std::array<const char*, 4> kBopColumns = {"mssd_m", "mspd_px", "add_m", "adds_m"};
+
+std::array<double*, 4> BopFields(PoseErrorMetrics& m) { return {&m.mssd_m, &m.mspd_px, &m.add_m, &m.adds_m}; }
 
 const std::array<const char*, 6> kTimeColumns = {"ms_load",      "ms_rectify", "ms_disparity",
                                                  "ms_reproject", "ms_icp",     "ms_total"};
@@ -71,6 +76,7 @@ std::string FrameResultsCsvHeader(bool boom) {
   for (const char* prefix : {"filt_est_", "filt_err_"}) {
     for (const char* dof : kDofNames) h += std::string(",") + prefix + dof;
   }
+  for (const char* column : kBopColumns) h += std::string(",") + column;
   for (const char* column : kTimeColumns) h += std::string(",") + column;
   if (boom) h += ",receiver_occluded_fraction";
   return h;
@@ -119,6 +125,8 @@ std::string FormatFrameResults(const std::vector<FrameResult>& results) {
     for (const SixDof* v : {&filtered, &f.filtered_error}) {
       for (size_t d = 0; d < 6; ++d) field(f.filtered ? FormatFixed((*v)[d], kValueDecimals) : std::string());
     }
+    PoseErrorMetrics bop = f.bop_errors.value_or(PoseErrorMetrics{});
+    for (const double* v : BopFields(bop)) field(f.bop_errors ? FormatFixed(*v, kValueDecimals) : std::string());
     StageTimes times = f.times;
     for (const double* t : TimeFields(times)) field(FormatFixed(*t, kTimeDecimals));
     if (boom) {
@@ -212,7 +220,17 @@ std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::str
         f.filtered = PoseFromValues(filtered);
       }
     }
-    size_t c = kFilterColumn + 12;
+    if (std::any_of(fields.begin() + kBopColumn, fields.begin() + kBopColumn + 4,
+                    [](const std::string& v) { return !v.empty(); })) {
+      PoseErrorMetrics bop;
+      size_t c = kBopColumn;
+      for (double* v : BopFields(bop)) {
+        *v = ParseFiniteDouble(fields[c], column(c));
+        ++c;
+      }
+      f.bop_errors = bop;
+    }
+    size_t c = kBopColumn + 4;
     for (double* t : TimeFields(f.times)) {
       *t = ParseFiniteDouble(fields[c], column(c));
       ++c;
@@ -222,6 +240,22 @@ std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::str
   }
   if (!header_seen) throw Error(where + ": empty file (no header)");
   return results;
+}
+
+std::string FormatBopResults(const std::vector<FrameResult>& results, const Eigen::Isometry3d& camera_from_tanker) {
+  std::string out = "scene_id,im_id,obj_id,score,R,t,time\n";
+  for (const FrameResult& f : results) {
+    if (!f.ok()) continue;
+    const Eigen::Isometry3d cam_from_receiver = camera_from_tanker * IsometryFromPose(f.estimate);
+    std::string r, t;
+    for (int i = 0; i < 3; ++i) {
+      for (int k = 0; k < 3; ++k) r += (r.empty() ? "" : " ") + FormatFixed(cam_from_receiver.linear()(i, k), 9);
+      t += (i ? " " : "") + FormatFixed(cam_from_receiver.translation()(i) * 1000.0, kValueDecimals);
+    }
+    const double time_s = f.times.total_ms > 0.0 ? f.times.total_ms / 1000.0 : -1.0;
+    out += "1," + std::to_string(f.frame) + ",1,1," + r + "," + t + "," + FormatFixed(time_s, 6) + "\n";
+  }
+  return out;
 }
 
 void WriteFrameResults(const std::filesystem::path& path, const std::vector<FrameResult>& results) {

@@ -28,9 +28,11 @@ bool InGroup(const FrameResult& f, const std::string& group) {
   return RangeBinForRange(f.range_m) == group;
 }
 
-GroupStats Aggregate(const std::vector<FrameResult>& frames, const std::string& group) {
+GroupStats Aggregate(const std::vector<FrameResult>& frames, const std::string& group,
+                     const std::optional<BopScale>& bop) {
   GroupStats g;
   g.group = group;
+  std::vector<std::optional<PoseErrorMetrics>> bop_errors;
   double icp_ms_sum = 0.0;
   double total_ms_sum = 0.0;
   std::vector<double> icp_ms;
@@ -38,6 +40,7 @@ GroupStats Aggregate(const std::vector<FrameResult>& frames, const std::string& 
     const FrameResult& f = frames[i];
     if (!InGroup(f, group)) continue;
     ++g.frames;
+    bop_errors.push_back(f.ok() ? f.bop_errors : std::nullopt);
     total_ms_sum += f.times.total_ms;
     g.stereo_truth.Add(f.stereo_truth);
     if (f.ok() || f.has_estimate) {
@@ -79,6 +82,7 @@ GroupStats Aggregate(const std::vector<FrameResult>& frames, const std::string& 
     icp_ms.push_back(f.times.icp_ms);
   }
   if (g.frames > 0) g.total_ms_mean = total_ms_sum / static_cast<double>(g.frames);
+  if (bop) g.bop = ScoreBop(bop_errors, *bop);
   if (g.with_estimate > 0) {
     for (size_t d = 0; d < 6; ++d) g.mean_abs_error_all[d] /= static_cast<double>(g.with_estimate);
   }
@@ -183,7 +187,8 @@ std::string DofTable(const Summary& summary, const std::vector<std::string>& gro
 
 }  // namespace
 
-ModelSummary SummarizeFrames(const std::string& model, const std::vector<FrameResult>& frames) {
+ModelSummary SummarizeFrames(const std::string& model, const std::vector<FrameResult>& frames,
+                             const std::optional<BopScale>& bop) {
   std::vector<FrameResult> sorted = frames;
   std::stable_sort(sorted.begin(), sorted.end(),
                    [](const FrameResult& a, const FrameResult& b) { return a.frame < b.frame; });
@@ -191,7 +196,7 @@ ModelSummary SummarizeFrames(const std::string& model, const std::vector<FrameRe
   const std::vector<FrameResult> quantised = ParseFrameResults(FormatFrameResults(sorted), "summary of " + model);
   ModelSummary summary;
   summary.model = model;
-  for (const std::string& group : GroupNames()) summary.groups.push_back(Aggregate(quantised, group));
+  for (const std::string& group : GroupNames()) summary.groups.push_back(Aggregate(quantised, group, bop));
   return summary;
 }
 
@@ -219,6 +224,11 @@ nlohmann::json SummaryToJson(const Summary& summary) {
           {"jitter_rms", g.jitter_pairs > 0 ? SixDofJson(g.jitter_rms) : nlohmann::json(nullptr)},
           {"filtered_jitter_rms", g.jitter_pairs > 0 ? SixDofJson(g.filtered_jitter_rms) : nlohmann::json(nullptr)},
       };
+      if (g.bop) {
+        groups[g.group]["bop"] = {{"targets", g.bop->targets},       {"ar_mssd", g.bop->ar_mssd},
+                                  {"ar_mspd", g.bop->ar_mspd},       {"ar_mssd_mspd", g.bop->ar_mssd_mspd},
+                                  {"add_recall", g.bop->add_recall}, {"adds_recall", g.bop->adds_recall}};
+      }
       times[g.group] = {{"icp_ms_mean", any ? nlohmann::json(g.icp_ms_mean) : nlohmann::json(nullptr)},
                         {"icp_ms_std", any ? nlohmann::json(g.icp_ms_std) : nlohmann::json(nullptr)},
                         {"total_ms_mean", g.frames > 0 ? nlohmann::json(g.total_ms_mean) : nlohmann::json(nullptr)}};
@@ -314,6 +324,33 @@ std::string SummaryToMarkdown(const Summary& summary) {
     }
   }
   out += "\n";
+  bool any_bop = false;
+  for (const ModelSummary& m : summary.models) {
+    for (const GroupStats& g : m.groups) any_bop = any_bop || g.bop.has_value();
+  }
+  if (any_bop) {
+    out +=
+        "## BOP scores by region (AR over BOP's thresholds; ADD / ADD-S: fraction below 10 % of the diameter; a "
+        "frame without an estimate is a miss)\n\n"
+        "| Region | Model | AR MSSD | AR MSPD | AR (MSSD, MSPD) | ADD | ADD-S | Frames |\n"
+        "|---|---|---:|---:|---:|---:|---:|---:|\n";
+    for (const std::string& group : std::vector<std::string>{"all", "A", "B", "C"}) {
+      for (const ModelSummary& m : summary.models) {
+        const GroupStats* g = FindGroup(m, group);
+        if (g == nullptr || !g->bop || g->bop->targets == 0) continue;
+        out += "|";
+        AppendCell(out, group);
+        AppendCell(out, DisplayName(m.model));
+        for (double v :
+             {g->bop->ar_mssd, g->bop->ar_mspd, g->bop->ar_mssd_mspd, g->bop->add_recall, g->bop->adds_recall}) {
+          AppendCell(out, FormatFixed(v, 3));
+        }
+        AppendCell(out, std::to_string(g->bop->targets));
+        out += "\n";
+      }
+    }
+    out += "\n";
+  }
   out +=
       "## ICP execution time by range (Table 3 layout; machine-dependent)\n\n"
       "| Range | Model | Average ICP time (ms) | Standard deviation (ms) | Frames (ok) |\n"

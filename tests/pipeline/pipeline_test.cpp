@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <opencv2/core.hpp>
 #include <regex>
+#include <sstream>
 
 #include "aar/analyzer/analysis_run.h"
 #include "aar/analyzer/frame_analysis.h"
@@ -109,6 +110,14 @@ TEST(Pipeline, EndToEndPoseNearContact) {
   EXPECT_EQ(all.at("frames").get<size_t>(), test::kNearContactFrames);
   EXPECT_EQ(all.at("ok").get<size_t>(), test::kNearContactFrames);
   EXPECT_EQ(all.at("failed").get<size_t>(), 0u);
+  // Within the bounds above every frame is far inside BOP's smallest
+  // thresholds (5 % of the 16.6 m diameter; 5 px at 640 px wide) and ADD's.
+  EXPECT_NEAR(ReadJsonFile(out / kRunJsonName).at("bop").at("diameter_m").get<double>(), 16.64, 0.01);
+  for (const char* score : {"ar_mssd", "ar_mspd", "add_recall", "adds_recall"}) {
+    EXPECT_EQ(all.at("bop").at(score).get<double>(), 1.0) << score;
+  }
+  // The BOP results file: a header and one line per frame.
+  EXPECT_EQ(test::CountLines(ReadFileBytes(out / kBopResultsName)), test::kNearContactFrames + 1);
   EXPECT_EQ(summary.at("run").at("options").at("preset"), "default");
   EXPECT_EQ(summary.at("run").at("options").at("icp").at("algorithm"), "point_to_plane");
   const nlohmann::json run = ReadJsonFile(out / kRunJsonName);
@@ -284,6 +293,14 @@ TEST(Pipeline, ShardsMergeToTheSingleRunSummary) {
   EXPECT_EQ(test::FramesCsvWithoutTiming(dir / "merged" / kFramesCsvName), single);
   EXPECT_EQ(test::SummaryWithoutTiming(dir / "merged" / kSummaryJsonName).dump(2),
             test::SummaryWithoutTiming(dir / "single" / kSummaryJsonName).dump(2));
+  // The BOP results without their last column (time, a timing).
+  const auto without_time = [](const fs::path& path) {
+    std::vector<std::string> lines;
+    std::istringstream in(ReadFileBytes(path));
+    for (std::string line; std::getline(in, line);) lines.push_back(line.substr(0, line.rfind(',')));
+    return lines;
+  };
+  EXPECT_EQ(without_time(dir / "merged" / kBopResultsName), without_time(dir / "single" / kBopResultsName));
 }
 
 // `aar-analyze reference`: "<model> model: <N> points -> <file>".

@@ -23,6 +23,7 @@ inline constexpr const char* kFramesCsvName = "frames.csv";
 inline constexpr const char* kSummaryJsonName = "summary.json";
 inline constexpr const char* kSummaryMarkdownName = "summary.md";
 inline constexpr const char* kRunJsonName = "run.json";
+inline constexpr const char* kBopResultsName = "bop_results.csv";
 inline constexpr const char* kCalibrationYamlName = "calibration.yaml";
 inline constexpr const char* kCalibrationReportName = "calibration_report.json";
 inline constexpr const char* kFrameDumpDir = "frames";

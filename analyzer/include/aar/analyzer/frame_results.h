@@ -1,6 +1,7 @@
 #pragma once
 // Per-frame pose-estimation records and their CSV file (docs/analysis.md).
 
+#include <Eigen/Geometry>
 #include <array>
 #include <cstddef>
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "aar/analyzer/bop_metrics.h"
 #include "aar/analyzer/pose_filter.h"
 #include "aar/analyzer/stereo_truth.h"
 #include "aar/pose.h"
@@ -68,6 +70,9 @@ struct FrameResult {
   /// truth; none where the frame is not ok.
   std::optional<Pose> filtered;
   SixDof filtered_error;
+  /// The estimate's BOP errors and ADD / ADD-S against the truth in the left
+  /// camera (bop_metrics.h); where the frame has an estimate.
+  std::optional<PoseErrorMetrics> bop_errors;
 
   /// An estimate exists (ok, or registered but rejected, e.g. by the
   /// residual test); est_* and err_* are then written even when not ok.
@@ -77,15 +82,17 @@ struct FrameResult {
 };
 
 /// The CSV header (one line, no newline). The filter's columns filt_est_* and
-/// filt_err_* follow the depth-truth columns; the timing columns ms_* come
-/// after the first 46, so that `cut -d, -f1-46` drops them for comparisons;
+/// filt_err_* follow the depth-truth columns, then the BOP errors mssd_m,
+/// mspd_px, add_m, adds_m; the timing columns ms_* come after the first 50,
+/// so that `cut -d, -f1-50` drops them for comparisons;
 /// with `boom`, one more column receiver_occluded_fraction ends the line.
 std::string FrameResultsCsvHeader(bool boom = false);
 
 /// Header and one line per frame, in the given order. Fixed decimals
 /// (aar::FormatFixed): 6 for seconds, metres and degrees, 3 for milliseconds.
 /// est_* and err_* are empty for frames that are not ok (and have no
-/// estimate), filt_est_* and filt_err_* for frames without a filtered pose. The column
+/// estimate), filt_est_* and filt_err_* for frames without a filtered pose,
+/// the BOP errors for frames without them. The column
 /// receiver_occluded_fraction is written when any frame has the value (empty
 /// where a frame has none).
 std::string FormatFrameResults(const std::vector<FrameResult>& results);
@@ -93,6 +100,13 @@ std::string FormatFrameResults(const std::vector<FrameResult>& results);
 /// Parses FormatFrameResults's text; `where` (a file name) prefixes errors,
 /// which name the line and column.
 std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::string& where);
+
+/// The ok frames' estimates as a BOP results file (bop_toolkit's CSV:
+/// header `scene_id,im_id,obj_id,score,R,t,time`; scene 1, image = frame
+/// index, object 1, as `aar-analyze export --format bop` numbers them; score
+/// 1; R row-major and t in mm, space-separated, of camera_from_tanker *
+/// estimate; time the frame's total in seconds, -1 where it is 0).
+std::string FormatBopResults(const std::vector<FrameResult>& results, const Eigen::Isometry3d& camera_from_tanker);
 
 /// Atomic write / read of a results CSV; errors name the file.
 void WriteFrameResults(const std::filesystem::path& path, const std::vector<FrameResult>& results);

@@ -7,10 +7,12 @@
 #include <cstddef>
 #include <filesystem>
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "aar/analyzer/bop_metrics.h"
 #include "aar/analyzer/frame_results.h"
 
 namespace aar {
@@ -45,6 +47,9 @@ struct GroupStats {
   size_t jitter_pairs = 0;
   SixDof jitter_rms;
   SixDof filtered_jitter_rms;
+  /// BOP scores and ADD / ADD-S recall over all frames of the group (a frame
+  /// that is not ok is a miss; bop_metrics.h); with a BopScale only.
+  std::optional<BopScores> bop;
 };
 
 /// All groups of one reference model, in the fixed order all, A, B, C, 20-60, 60-110.
@@ -61,12 +66,15 @@ struct Summary {
 /// (recomputed from the range, so the region column cannot disagree).
 /// Frames are sorted by index and every value is quantised exactly as the CSV
 /// stores it before summing, so the summary of merged shard CSVs equals, bit
-/// for bit, the summary of one run over the same frames.
-ModelSummary SummarizeFrames(const std::string& model, const std::vector<FrameResult>& frames);
+/// for bit, the summary of one run over the same frames. With `bop`, each
+/// group also gets its BOP scores from the frames' bop_errors.
+ModelSummary SummarizeFrames(const std::string& model, const std::vector<FrameResult>& frames,
+                             const std::optional<BopScale>& bop = std::nullopt);
 
 /// summary.json: {"schema": "aar-summary/1", "models": {model: {group: stats}},
 /// (stats include filtered_mean_abs_error, filtered_rms_error, jitter_pairs,
-/// jitter_rms, filtered_jitter_rms)
+/// jitter_rms, filtered_jitter_rms, and with BOP scores "bop": {targets,
+/// ar_mssd, ar_mspd, ar_mssd_mspd, add_recall, adds_recall})
 /// "timing": {model: {group: {icp_ms_mean, icp_ms_std, total_ms_mean}}}}.
 /// Everything outside "timing" is deterministic; statistics of groups with no
 /// ok frame are null.
@@ -78,7 +86,7 @@ nlohmann::json SummaryToJson(const Summary& summary);
 /// columns X (m) Y (m) Z (m) Roll (deg) Pitch (deg) Yaw (deg); then ICP time
 /// mean and standard deviation per range bin (Table 3) last; before it, the
 /// temporal filter's table per region (mean absolute error and jitter, per
-/// frame and filtered).
+/// frame and filtered), and the BOP scores per region where computed.
 std::string SummaryToMarkdown(const Summary& summary);
 
 }  // namespace aar
