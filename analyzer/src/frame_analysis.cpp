@@ -311,30 +311,39 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
       const std::vector<double> bias =
           PredictWindowBias(rect_left, rect_right, model_disparity, region.tl(), cloud.pixels, window_bias);
       const Eigen::Matrix4d q = ToEigen4(calibration_.Q);
+      SensedCloud corrected_cloud = cloud;
       double largest_move_m = 0.0;  // of a sensed point by its correction
       for (size_t k = 0; k < bias.size(); ++k) {
-        Eigen::Vector3d& pixel = cloud.pixels[k];
+        Eigen::Vector3d& pixel = corrected_cloud.pixels[k];
         pixel.z() -= bias[k];
         const Eigen::Vector4d h = q * Eigen::Vector4d(pixel.x(), pixel.y(), pixel.z(), 1.0);
         const Eigen::Vector3d corrected = tanker_from_rect_left_ * Eigen::Vector3d(h.head<3>() / h.w());
         largest_move_m = std::max(largest_move_m, (corrected - cloud.points_in_tanker[k]).norm());
-        cloud.points_in_tanker[k] = corrected;
+        corrected_cloud.points_in_tanker[k] = corrected;
       }
-      if (truth) r.stereo_truth = CompareWithTruth(cloud.pixels, *truth, calibration_, {}, nullptr);
-      if (dump != nullptr) dump->sensed_in_tanker = cloud.points_in_tanker;
-      Registered corrected = RegisterFrom(cloud.points_in_tanker, icp.tanker_from_receiver);
-      MaskPropellersAndRegister(cloud.points_in_tanker, corrected);
+      Registered corrected = RegisterFrom(corrected_cloud.points_in_tanker, icp.tanker_from_receiver);
+      MaskPropellersAndRegister(corrected_cloud.points_in_tanker, corrected);
       // Corrections of at most largest_move_m cannot move the receiver by
       // more than about that much: a registration that jumps further has
       // slid into another minimum (a far receiver's few points), and the
-      // first one stands.
+      // first one stands with its cloud.
       double model_move_m = 0.0;
       const Eigen::Isometry3d change = corrected.tanker_from_receiver * icp.tanker_from_receiver.inverse();
       for (const Eigen::Vector3d& m : model_points_) {
         const Eigen::Vector3d at = icp.tanker_from_receiver * m;
         model_move_m = std::max(model_move_m, (change * at - at).norm());
       }
-      if (model_move_m <= 2.0 * largest_move_m) icp = corrected;
+      if (model_move_m <= 2.0 * largest_move_m) {
+        icp = corrected;
+        cloud = std::move(corrected_cloud);
+        if (truth) r.stereo_truth = CompareWithTruth(cloud.pixels, *truth, calibration_, {}, nullptr);
+        if (dump != nullptr) dump->sensed_in_tanker = cloud.points_in_tanker;
+      }
+    }
+    if (dump != nullptr) {
+      dump->pixels = cloud.pixels;
+      dump->true_disparity_px.clear();
+      if (truth) CompareWithTruth(cloud.pixels, *truth, calibration_, {}, nullptr, &dump->true_disparity_px);
     }
     r.times.icp_ms += MillisecondsSince(start);
     // Near frames: part of the receiver beyond the search gives no (or

@@ -10,6 +10,7 @@
 #include "aar/dataset.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
+#include "aar/text.h"
 
 namespace aar {
 namespace {
@@ -93,6 +94,16 @@ void WriteFrameDump(const std::filesystem::path& dir, size_t index, const FrameD
   if (!dump.sensed_in_tanker.empty()) {
     WritePly(dir / (stem + "_sensed.ply"), dump.sensed_in_tanker,
              {"aar-analyze frame " + std::to_string(index) + ": sensed cloud, tanker frame, metres"});
+  }
+  if (!dump.pixels.empty()) {
+    std::string csv = "u_px,v_px,disparity_px,true_disparity_px\n";
+    for (size_t k = 0; k < dump.pixels.size(); ++k) {
+      const Eigen::Vector3d& p = dump.pixels[k];
+      const bool has_truth = k < dump.true_disparity_px.size() && std::isfinite(dump.true_disparity_px[k]);
+      csv += FormatFixed(p.x(), 4) + "," + FormatFixed(p.y(), 4) + "," + FormatFixed(p.z(), 6) + "," +
+             (has_truth ? FormatFixed(dump.true_disparity_px[k], 6) : std::string()) + "\n";
+    }
+    WriteFileAtomic(dir / (stem + "_points.csv"), csv);
   }
   if (dump.tanker_from_receiver) {
     std::vector<Eigen::Vector3d> model;

@@ -3,6 +3,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
+#include <limits>
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -64,7 +65,8 @@ void StereoTruthStats::Add(const StereoTruthStats& o) {
 
 StereoTruthStats CompareWithTruth(const std::vector<Eigen::Vector3d>& pixels, const DepthTruth& truth,
                                   const StereoCalibration& calibration, const StereoTruthOptions& options,
-                                  std::vector<Eigen::Vector3d>* true_points_in_rect_left) {
+                                  std::vector<Eigen::Vector3d>* true_points_in_rect_left,
+                                  std::vector<double>* true_disparity_px) {
   const Eigen::MatrixXd p1 = ToEigen(calibration.P1), r1 = ToEigen(calibration.R1), m1 = ToEigen(calibration.M1);
   const Eigen::MatrixXd q = ToEigen(calibration.Q);
   const double f = p1(0, 0), cx = p1(0, 2), cy = p1(1, 2), fy = p1(1, 1);
@@ -77,7 +79,9 @@ StereoTruthStats CompareWithTruth(const std::vector<Eigen::Vector3d>& pixels, co
   const auto depth = [&](int x, int y) { return static_cast<double>(truth.depth_m.at<float>(y, x)); };
 
   StereoTruthStats stats;
-  for (const Eigen::Vector3d& pixel : pixels) {
+  if (true_disparity_px != nullptr) true_disparity_px->assign(pixels.size(), std::numeric_limits<double>::quiet_NaN());
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    const Eigen::Vector3d& pixel = pixels[i];
     ++stats.points;
     const Eigen::Vector3d ray_left = left_from_rect * Eigen::Vector3d((pixel.x() - cx) / f, (pixel.y() - cy) / fy, 1.0);
     // The truth images are the left camera's own, through its lens (D1).
@@ -103,6 +107,7 @@ StereoTruthStats CompareWithTruth(const std::vector<Eigen::Vector3d>& pixels, co
     const Eigen::Vector3d point_in_rect = r1 * (ray_left * (z_left / ray_left.z()));
     if (true_points_in_rect_left != nullptr) true_points_in_rect_left->push_back(point_in_rect);
     const double d_true = (q(2, 3) / point_in_rect.z() - q(3, 3)) / q(3, 2);
+    if (true_disparity_px != nullptr) (*true_disparity_px)[i] = d_true;
     const double error = pixel.z() - d_true;
     ++stats.on_receiver;
     stats.error_sum_px += error;

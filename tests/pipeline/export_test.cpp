@@ -18,6 +18,7 @@
 #include "aar/analyzer/ply.h"
 #include "aar/dataset.h"
 #include "aar/file_io.h"
+#include "aar/text.h"
 #include "pipeline_support.h"
 
 namespace aar {
@@ -327,6 +328,26 @@ TEST(FrameDump, OverlayAndDisparityLieOnTheReceiver) {
   reference_centroid /= static_cast<double>(model.size());
   const Eigen::Vector3d expected = IsometryFromPose(frames[0].estimate) * reference_centroid;
   EXPECT_LT((centroid - expected).norm(), 1e-3);  // float PLY, 6-decimal CSV
+
+  // points.csv: one line per sensed point; its errors against the true
+  // disparities are the frame's depth-truth sums in frames.csv.
+  std::istringstream points(ReadFileBytes(out / "frames/000002_points.csv"));
+  std::string line;
+  ASSERT_TRUE(std::getline(points, line));
+  EXPECT_EQ(line, "u_px,v_px,disparity_px,true_disparity_px");
+  size_t rows = 0, on_receiver = 0;
+  double error_sum = 0.0;
+  while (std::getline(points, line)) {
+    ++rows;
+    const std::vector<std::string> fields = SplitCsvLine(line);
+    ASSERT_EQ(fields.size(), 4u) << line;
+    if (fields[3].empty()) continue;
+    ++on_receiver;
+    error_sum += std::stod(fields[2]) - std::stod(fields[3]);
+  }
+  EXPECT_EQ(rows, frames[0].sensed_points);
+  EXPECT_EQ(on_receiver, frames[0].stereo_truth.on_receiver);
+  EXPECT_NEAR(error_sum, frames[0].stereo_truth.error_sum_px, 1e-3);
 }
 
 }  // namespace

@@ -10,6 +10,9 @@
 //   NNNNNN_overlay.png     the left image with the registered model's points
 //                          projected by the run's calibration (green), and the
 //                          receiver origin at the estimate (green cross) and truth (red cross)
+//   NNNNNN_points.csv      every sensed point's rectified-left pixel and disparity
+//                          as registered (refined, corrected), and with depth
+//                          truth its true disparity: u_px,v_px,disparity_px,true_disparity_px
 //
 // A frame without an estimate gets the disparity and the cloud when it got
 // that far, and no model or overlay.
@@ -31,6 +34,11 @@ struct FrameDump {
   cv::Rect region;                                ///< where disparity16 lies in the rectified left image
   int invalid_value16 = -16;                      ///< marks pixels without disparity
   std::vector<Eigen::Vector3d> sensed_in_tanker;  ///< the cloud given to ICP [m]
+  /// The sensed points' (u, v, disparity) in the rectified left image as
+  /// registered, and their true disparities (NaN: not on the receiver;
+  /// empty without depth truth) [px].
+  std::vector<Eigen::Vector3d> pixels;
+  std::vector<double> true_disparity_px;
   std::optional<Eigen::Isometry3d> tanker_from_receiver;  ///< the estimate, when registered
   Eigen::Isometry3d tanker_from_receiver_truth = Eigen::Isometry3d::Identity();
 };

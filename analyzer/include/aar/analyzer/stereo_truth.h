@@ -63,9 +63,12 @@ struct StereoTruthStats {
 /// Compares sensed points (u, v, disparity in rect_left, as SensedCloud::pixels) with the truth.
 /// With `true_points_in_rect_left`, also returns the true point of every
 /// sensed point on the receiver (rect_left frame) [m]: the ideal cloud at the
-/// same pixels, which isolates registration from stereo error.
+/// same pixels, which isolates registration from stereo error. With
+/// `true_disparity_px`, also the true disparity of every pixel (NaN where
+/// the pixel is not on the receiver), one per pixel.
 StereoTruthStats CompareWithTruth(const std::vector<Eigen::Vector3d>& pixels, const DepthTruth& truth,
                                   const StereoCalibration& calibration, const StereoTruthOptions& options = {},
-                                  std::vector<Eigen::Vector3d>* true_points_in_rect_left = nullptr);
+                                  std::vector<Eigen::Vector3d>* true_points_in_rect_left = nullptr,
+                                  std::vector<double>* true_disparity_px = nullptr);
 
 }  // namespace aar
