@@ -348,6 +348,16 @@ TEST(FrameDump, OverlayAndDisparityLieOnTheReceiver) {
   EXPECT_EQ(rows, frames[0].sensed_points);
   EXPECT_EQ(on_receiver, frames[0].stereo_truth.on_receiver);
   EXPECT_NEAR(error_sum, frames[0].stereo_truth.error_sum_px, 1e-3);
+
+  // experiments/edge_bias.py reads the dump: the same points and mean error.
+  const test::CommandResult edge =
+      test::RunCommand("/usr/bin/python3 " + Quote(test::SourcePath("experiments/edge_bias.py")) + " " + Quote(out));
+  ASSERT_EQ(edge.exit_code, 0) << edge.output;
+  const std::string row_start = "| " + out.string() + " | " + std::to_string(on_receiver) + " | ";
+  const size_t row = edge.output.find(row_start);
+  ASSERT_NE(row, std::string::npos) << row_start << " in\n" << edge.output;
+  EXPECT_NEAR(std::stod(edge.output.substr(row + row_start.size())), error_sum / static_cast<double>(on_receiver),
+              1e-4);
 }
 
 }  // namespace
