@@ -73,7 +73,7 @@ struct RunFlags {
   std::optional<std::string> subpixel_interpolation;
   std::optional<bool> window_bias;
   std::optional<std::string> seed, registration, correspondence, pairing, residual;
-  std::optional<int> icp_iterations, num_disparities, block_size, halo_radius;
+  std::optional<int> icp_iterations, num_disparities, block_size, halo_radius, uniqueness_ratio, speckle_window;
   std::optional<double> max_correspondence_m, disparity_offset_px, disparity_noise_px, gate_sigmas, model_pull_scale_m;
   std::optional<size_t> keep_one_in, target_points, model_queries;
   std::optional<bool> halo, subpixel, rounding, widen, balance, full_surface;
@@ -132,6 +132,10 @@ struct RunFlags {
     cmd->add_option("--disparity", disparity, "bm (StereoBM, thesis) or sgbm")->capture_default_str();
     cmd->add_option("--num-disparities", num_disparities, "disparities searched (48)");
     cmd->add_option("--block-size", block_size, "matching block size [px] (9)");
+    cmd->add_option("--uniqueness-ratio", uniqueness_ratio,
+                    "block matching: the best cost must beat the second best by this many percent (15)");
+    cmd->add_option("--speckle-window", speckle_window,
+                    "speckle filter: connected disparity regions smaller than this are removed [px] (100; 0: off)");
     cmd->add_option("--halo", halo, "remove the block-matching halo around the silhouette (default preset: true)");
     cmd->add_option("--halo-radius", halo_radius,
                     "halo removal: valid pixels this close to an invalid pixel or a jump go [px] (block / 2 + 1)");
@@ -213,6 +217,8 @@ struct RunFlags {
     if (max_correspondence_m)
       f.icp.max_correspondence_distance_m = f.plane_icp.max_correspondence_distance_m = *max_correspondence_m;
     if (num_disparities) f.disparity.num_disparities = *num_disparities;
+    if (uniqueness_ratio) f.disparity.uniqueness_ratio = *uniqueness_ratio;
+    if (speckle_window) f.disparity.speckle_window_size = *speckle_window;
     if (block_size) {
       f.disparity.block_size = *block_size;
       f.halo.radius_px = aar::HaloRadiusPx(f.disparity);

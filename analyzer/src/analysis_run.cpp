@@ -67,6 +67,7 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
        {{"algorithm", f.disparity.algorithm == DisparityAlgorithm::kBlockMatching ? "bm" : "sgbm"},
         {"num_disparities", f.disparity.num_disparities},
         {"block_size", f.disparity.block_size},
+        {"uniqueness_ratio", f.disparity.uniqueness_ratio},
         {"speckle_window_size", f.disparity.speckle_window_size},
         {"speckle_range_px", f.disparity.speckle_range_px},
         {"background_disparity_px", f.disparity.background_disparity_px},
