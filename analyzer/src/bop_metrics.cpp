@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <utility>
 
 #include "aar/error.h"
 
@@ -26,14 +28,36 @@ double Recall(const std::vector<std::optional<PoseErrorMetrics>>& errors, double
   return static_cast<double>(hits) / static_cast<double>(errors.size());
 }
 
-// The largest distance between two of `points`.
+// The largest distance between two of `points`, exactly, without testing
+// every pair: with the points sorted by their distance r from the centroid,
+// |p - q| <= r_p + r_q (the triangle inequality), so once that bound is
+// below the best distance found no later pair can beat it. Of an aircraft's
+// vertices only those near the extremities are paired.
 double PointSetDiameter(const std::vector<Eigen::Vector3d>& points) {
-  double diameter_sq = 0.0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    for (size_t k = i + 1; k < points.size(); ++k)
-      diameter_sq = std::max(diameter_sq, (points[i] - points[k]).squaredNorm());
+  if (points.size() < 2) return 0.0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points) centroid += p;
+  centroid /= static_cast<double>(points.size());
+  std::vector<std::pair<double, size_t>> by_radius;
+  by_radius.reserve(points.size());
+  for (size_t i = 0; i < points.size(); ++i) by_radius.emplace_back((points[i] - centroid).norm(), i);
+  std::sort(by_radius.begin(), by_radius.end(), std::greater<>());
+  // A margin far above the rounding of the bounds keeps the pruning exact.
+  const double margin = 1e-9 * (1.0 + by_radius.front().first);
+  double best_sq = 0.0, best = 0.0;
+  for (size_t a = 0; a < by_radius.size(); ++a) {
+    if (by_radius[a].first + by_radius.front().first < best - margin) break;
+    const Eigen::Vector3d& p = points[by_radius[a].second];
+    for (size_t b = a + 1; b < by_radius.size(); ++b) {
+      if (by_radius[a].first + by_radius[b].first < best - margin) break;
+      const double d_sq = (p - points[by_radius[b].second]).squaredNorm();
+      if (d_sq > best_sq) {
+        best_sq = d_sq;
+        best = std::sqrt(best_sq);
+      }
+    }
   }
-  return std::sqrt(diameter_sq);
+  return best;
 }
 
 }  // namespace

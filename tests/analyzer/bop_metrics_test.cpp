@@ -5,8 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "aar/analyzer/frame_results.h"
 #include "aar/error.h"
@@ -38,6 +40,25 @@ TEST(BopMetrics, DiameterIsTheLargestVertexDistance) {
   TriangleMesh point;
   point.vertices = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   EXPECT_THROW(BopObject{point}, Error);
+}
+
+TEST(BopMetrics, DiameterEqualsTheLargestPairwiseDistanceOfAnyCloud) {
+  // The pruned search against every pair, on elongated and round clouds.
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (const Eigen::Vector3d& scale : {Eigen::Vector3d(8.0, 1.0, 0.5), Eigen::Vector3d(1.0, 1.0, 1.0)}) {
+    TriangleMesh cloud;
+    for (int i = 0; i < 2000; ++i) {
+      cloud.vertices.push_back(Eigen::Vector3d(uniform(random), uniform(random), uniform(random)).cwiseProduct(scale));
+    }
+    double every_pair_sq = 0.0;
+    for (size_t i = 0; i < cloud.vertices.size(); ++i) {
+      for (size_t k = i + 1; k < cloud.vertices.size(); ++k) {
+        every_pair_sq = std::max(every_pair_sq, (cloud.vertices[i] - cloud.vertices[k]).squaredNorm());
+      }
+    }
+    EXPECT_EQ(BopObject(cloud).diameter_m(), std::sqrt(every_pair_sq));
+  }
 }
 
 TEST(BopMetrics, ATranslationMovesEveryVertexByItsLength) {
