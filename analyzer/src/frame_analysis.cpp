@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <opencv2/core/eigen.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "aar/analyzer/dataset_image.h"
@@ -42,16 +43,6 @@ Eigen::Isometry3d LeftFromRectLeft(const StereoCalibration& calibration) {
 
 // Near plane of the model's z-buffer (window bias): the receiver is metres away [m].
 constexpr double kModelNearM = 0.1;
-
-Eigen::Matrix4d ToEigen4(const cv::Mat& m) {
-  cv::Mat m64;
-  m.convertTo(m64, CV_64F);
-  Eigen::Matrix4d e;
-  for (int i = 0; i < 4; ++i) {
-    for (int j = 0; j < 4; ++j) e(i, j) = m64.at<double>(i, j);
-  }
-  return e;
-}
 
 // Reads one image of the pair, checking its hash against the sidecar and the manifest.
 cv::Mat ReadImage(const std::filesystem::path& dataset, const FileRef& ref, const Manifest& manifest,
@@ -206,6 +197,49 @@ void FrameAnalyzer::MaskPropellersAndRegister(const std::vector<Eigen::Vector3d>
   }
 }
 
+bool FrameAnalyzer::CorrectWindowBias(const cv::Mat& rect_left, const cv::Mat& rect_right, const cv::Rect& region,
+                                      SensedCloud& cloud, Registered& icp) const {
+  // The window's bias predicted from the model at the registered pose
+  // (window_bias.h), subtracted, and the cloud registered again from there.
+  WindowBiasOptions window_bias = options_.window_bias;
+  window_bias.half_window_px = options_.subpixel.half_window_px;
+  window_bias.slanted = options_.subpixel.slanted;
+  const cv::Mat model_disparity = ModelDisparity(
+      *receiver_mesh_, calibration_, tanker_from_rect_left_.inverse() * icp.tanker_from_receiver, region, kModelNearM);
+  const std::vector<double> bias =
+      PredictWindowBias(rect_left, rect_right, model_disparity, region.tl(), cloud.pixels, window_bias);
+  cv::Mat q64;
+  calibration_.Q.convertTo(q64, CV_64F);
+  Eigen::Matrix4d q;
+  cv::cv2eigen(q64, q);
+  SensedCloud corrected_cloud = cloud;
+  double largest_move_m = 0.0;  // of a sensed point by its correction
+  for (size_t k = 0; k < bias.size(); ++k) {
+    Eigen::Vector3d& pixel = corrected_cloud.pixels[k];
+    pixel.z() -= bias[k];
+    const Eigen::Vector4d h = q * Eigen::Vector4d(pixel.x(), pixel.y(), pixel.z(), 1.0);
+    const Eigen::Vector3d corrected = tanker_from_rect_left_ * Eigen::Vector3d(h.head<3>() / h.w());
+    largest_move_m = std::max(largest_move_m, (corrected - cloud.points_in_tanker[k]).norm());
+    corrected_cloud.points_in_tanker[k] = corrected;
+  }
+  Registered corrected = RegisterFrom(corrected_cloud.points_in_tanker, icp.tanker_from_receiver);
+  MaskPropellersAndRegister(corrected_cloud.points_in_tanker, corrected);
+  // Corrections of at most largest_move_m cannot move the receiver by more
+  // than about that much: a registration that jumps further has slid into
+  // another minimum (a far receiver's few points), and the first one stands
+  // with its cloud.
+  double model_move_m = 0.0;
+  const Eigen::Isometry3d change = corrected.tanker_from_receiver * icp.tanker_from_receiver.inverse();
+  for (const Eigen::Vector3d& m : model_points_) {
+    const Eigen::Vector3d at = icp.tanker_from_receiver * m;
+    model_move_m = std::max(model_move_m, (change * at - at).norm());
+  }
+  if (!(model_move_m <= 2.0 * largest_move_m)) return false;
+  icp = corrected;
+  cloud = std::move(corrected_cloud);
+  return true;
+}
+
 void FrameAnalyzer::EnableWindowBiasCorrection(TriangleMesh receiver) {
   receiver_mesh_ = std::make_unique<TriangleMesh>(std::move(receiver));
 }
@@ -299,51 +333,17 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
     start = std::chrono::steady_clock::now();
     icp = Register(cloud.points_in_tanker, seed);
     MaskPropellersAndRegister(cloud.points_in_tanker, icp);
-    if (options_.correct_window_bias && refiner && receiver_mesh_ && !options_.register_truth_cloud) {
-      // The window's bias predicted from the model at the registered pose
-      // (window_bias.h), subtracted, and the cloud registered again from there.
-      WindowBiasOptions window_bias = options_.window_bias;
-      window_bias.half_window_px = options_.subpixel.half_window_px;
-      window_bias.slanted = options_.subpixel.slanted;
-      const cv::Mat model_disparity =
-          ModelDisparity(*receiver_mesh_, calibration_, tanker_from_rect_left_.inverse() * icp.tanker_from_receiver,
-                         region, kModelNearM);
-      const std::vector<double> bias =
-          PredictWindowBias(rect_left, rect_right, model_disparity, region.tl(), cloud.pixels, window_bias);
-      const Eigen::Matrix4d q = ToEigen4(calibration_.Q);
-      SensedCloud corrected_cloud = cloud;
-      double largest_move_m = 0.0;  // of a sensed point by its correction
-      for (size_t k = 0; k < bias.size(); ++k) {
-        Eigen::Vector3d& pixel = corrected_cloud.pixels[k];
-        pixel.z() -= bias[k];
-        const Eigen::Vector4d h = q * Eigen::Vector4d(pixel.x(), pixel.y(), pixel.z(), 1.0);
-        const Eigen::Vector3d corrected = tanker_from_rect_left_ * Eigen::Vector3d(h.head<3>() / h.w());
-        largest_move_m = std::max(largest_move_m, (corrected - cloud.points_in_tanker[k]).norm());
-        corrected_cloud.points_in_tanker[k] = corrected;
-      }
-      Registered corrected = RegisterFrom(corrected_cloud.points_in_tanker, icp.tanker_from_receiver);
-      MaskPropellersAndRegister(corrected_cloud.points_in_tanker, corrected);
-      // Corrections of at most largest_move_m cannot move the receiver by
-      // more than about that much: a registration that jumps further has
-      // slid into another minimum (a far receiver's few points), and the
-      // first one stands with its cloud.
-      double model_move_m = 0.0;
-      const Eigen::Isometry3d change = corrected.tanker_from_receiver * icp.tanker_from_receiver.inverse();
-      for (const Eigen::Vector3d& m : model_points_) {
-        const Eigen::Vector3d at = icp.tanker_from_receiver * m;
-        model_move_m = std::max(model_move_m, (change * at - at).norm());
-      }
-      if (model_move_m <= 2.0 * largest_move_m) {
-        icp = corrected;
-        cloud = std::move(corrected_cloud);
-        if (truth) r.stereo_truth = CompareWithTruth(cloud.pixels, *truth, calibration_, {}, nullptr);
-        if (dump != nullptr) dump->sensed_in_tanker = cloud.points_in_tanker;
-      }
-    }
+    const bool corrected = options_.correct_window_bias && refiner && receiver_mesh_ &&
+                           !options_.register_truth_cloud &&
+                           CorrectWindowBias(rect_left, rect_right, region, cloud, icp);
     if (dump != nullptr) {
+      dump->sensed_in_tanker = cloud.points_in_tanker;
       dump->pixels = cloud.pixels;
       dump->true_disparity_px.clear();
-      if (truth) CompareWithTruth(cloud.pixels, *truth, calibration_, {}, nullptr, &dump->true_disparity_px);
+    }
+    if (truth && (corrected || dump != nullptr)) {
+      r.stereo_truth = CompareWithTruth(cloud.pixels, *truth, calibration_, {}, nullptr,
+                                        dump != nullptr ? &dump->true_disparity_px : nullptr);
     }
     r.times.icp_ms += MillisecondsSince(start);
     // Near frames: part of the receiver beyond the search gives no (or

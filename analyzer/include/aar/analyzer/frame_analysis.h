@@ -226,6 +226,11 @@ class FrameAnalyzer {
   // options.mask_propellers: registers again without the points in the
   // propeller discs at `icp`'s pose, pass by pass, while the masks agree.
   void MaskPropellersAndRegister(const std::vector<Eigen::Vector3d>& sensed, Registered& icp) const;
+  // options.correct_window_bias: subtracts the window bias predicted at
+  // `icp`'s pose from `cloud` and registers again; keeps both only when the
+  // new pose passes the jump test. Returns whether it did.
+  bool CorrectWindowBias(const cv::Mat& rect_left, const cv::Mat& rect_right, const cv::Rect& region,
+                         SensedCloud& cloud, Registered& icp) const;
   // Rectify, match, re-project and register in `roi` (empty: the whole image).
   Registered Measure(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, const std::optional<Pose>& seed,
                      const std::optional<DepthTruth>& truth, const std::string& left_path, const BoomMasks* boom,
