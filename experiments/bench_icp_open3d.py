@@ -16,10 +16,8 @@ here only.
         --calibration results/conops-x16-calibration/calibration.yaml
 """
 import argparse
-import csv
 import os
 import pathlib
-import struct
 import subprocess
 import sys
 import tempfile
@@ -33,18 +31,8 @@ try:
 except ImportError:
     sys.exit("bench_icp_open3d: needs Open3D (apt-get install python3-open3d)")
 
-
-def read_ply_points(path):
-    """x, y, z of a binary little-endian float PLY as written by aar-analyze."""
-    data = pathlib.Path(path).read_bytes()
-    end = data.index(b"end_header\n") + len(b"end_header\n")
-    header = data[:end].decode("ascii").splitlines()
-    count = next(int(line.split()[2]) for line in header if line.startswith("element vertex"))
-    props = [line.split()[2] for line in header if line.startswith("property")]
-    if props[:3] != ["x", "y", "z"] or any(line.split()[1] != "float" for line in header if line.startswith("property")):
-        sys.exit(f"{path}: expected float x y z first")
-    values = np.frombuffer(data, dtype="<f4", count=count * len(props), offset=end).reshape(count, len(props))
-    return values[:, :3].astype(np.float64)
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "python"))
+import aar_stereo  # noqa: E402
 
 
 def rigid_fit(source, target):
@@ -75,14 +63,14 @@ def main():
                         "--icp-iterations", "30", "--max-correspondence", "2", "--no-progress", "--out", str(out),
                         "--dump-frames", ",".join(str(i) for i in range(first, last))], check=True,
                        stdout=subprocess.DEVNULL)
-        model = read_ply_points(shell)
+        model = aar_stereo.read_ply(shell)
         model_cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(model))
-        rows = [r for r in csv.DictReader(open(out / "frames.csv")) if r["status"] == "ok"]
+        run = aar_stereo.open_run(out)
         by_region = {}
-        for r in rows:
-            stem = f"{int(r['frame']):06d}"
-            sensed = read_ply_points(out / "frames" / f"{stem}_sensed.ply")
-            ours_r, ours_t = rigid_fit(model, read_ply_points(out / "frames" / f"{stem}_model.ply"))
+        for r in (r for r in run if r["status"] == "ok"):
+            dump = run.dumps[r["frame"]]
+            sensed = dump.sensed()
+            ours_r, ours_t = rigid_fit(model, dump.model())
             init = np.eye(4)
             init[:3, 3] = sensed.mean(axis=0) - model.mean(axis=0)  # aar-analyze's centroid seed
             target = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(sensed))
@@ -97,7 +85,7 @@ def main():
             dr = t[:3, :3] @ ours_r.T
             angle = np.degrees(np.arccos(np.clip((np.trace(dr) - 1.0) / 2.0, -1.0, 1.0)))
             by_region.setdefault(r["region"], []).append(
-                (float(r["ms_icp"]), o3d_ms, np.linalg.norm(t[:3, 3] - ours_t), angle, len(sensed)))
+                (r["ms_icp"], o3d_ms, np.linalg.norm(t[:3, 3] - ours_t), angle, len(sensed)))
 
     print(f"point-to-point ICP, model to sensed, 30 iterations, 2 m gate, one thread; frames {args.frames}")
     print("| region | frames | sensed points (median) | aar-analyze ms (median) | Open3D ms (median) | "

@@ -12,21 +12,22 @@ points on the receiver [px] (docs/analysis.md, "The cloud against depth
 truth"), and, for datasets with the boom, the mean fraction of the receiver
 the boom hides (receiver_occluded_fraction, docs/analysis.md, "The boom"). Only frames that every run analyzed are counted (and, with --shard,
 only frames i with i % N == K), so runs over different subsets compare on the
-same frames. Standard library only.
+same frames. Reads the runs with python/aar_stereo (NumPy).
 """
 
 import argparse
-import csv
 import math
 import sys
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
+import aar_stereo  # noqa: E402
 
 COMPONENTS = ("x_m", "y_m", "z_m", "roll_deg", "pitch_deg", "yaw_deg")
 
 
 def read(run_dir):
-    with open(Path(run_dir) / "frames.csv", newline="") as f:
-        return {int(r["frame"]): r for r in csv.DictReader(f)}
+    return {r["frame"]: r for r in aar_stereo.open_run(run_dir)}
 
 
 def fmt(value, digits):
@@ -57,20 +58,20 @@ def main(argv):
         for label, frames in runs:
             rows = [frames[i] for i in sorted(common) if frames[i]["region"] == region]
             ok = [r for r in rows if r["status"] == "ok"]
-            mae = [sum(abs(float(r["err_" + c])) for r in ok) / len(ok) if ok else None for c in COMPONENTS]
-            truth = [r for r in rows if r.get("truth_points") not in (None, "")]
-            points = sum(float(r["truth_points"]) for r in truth)
-            off_rec = sum(float(r["truth_off_receiver"]) for r in truth)
-            off_surf = sum(float(r["truth_off_surface"]) for r in truth)
+            mae = [sum(abs(r["err_" + c]) for r in ok) / len(ok) if ok else None for c in COMPONENTS]
+            truth = [r for r in rows if r.get("truth_points") is not None]
+            points = sum(r["truth_points"] for r in truth)
+            off_rec = sum(r["truth_off_receiver"] for r in truth)
+            off_surf = sum(r["truth_off_surface"] for r in truth)
             on = points - off_rec
-            sq = sum(float(r["truth_error_squared_sum_px2"]) for r in truth)
+            sq = sum(r["truth_error_squared_sum_px2"] for r in truth)
             cells = [fmt(v, 3) for v in mae]
             cells += [fmt(100.0 * off_rec / points, 2) if points else "-",
                       fmt(100.0 * off_surf / points, 2) if points else "-",
                       fmt(math.sqrt(sq / on), 3) if on > 0 else "-"]
             if boom:
-                hidden = [float(r["receiver_occluded_fraction"]) for r in rows
-                          if r.get("receiver_occluded_fraction") not in (None, "")]
+                hidden = [r["receiver_occluded_fraction"] for r in rows
+                          if r.get("receiver_occluded_fraction") is not None]
                 cells.append(fmt(100.0 * sum(hidden) / len(hidden), 2) if hidden else "-")
             print(f"| {region} | {label} | {len(ok)}/{len(rows)} | " + " | ".join(cells) + " |")
     return 0

@@ -19,15 +19,17 @@ With --pixels-of OTHER, also the mean error of each run on only the pixels
 (frame, rounded u and v) that OTHER kept too, and OTHER's on the same pixels:
 run on the same frames and rig geometry, it separates which pixels a run
 keeps from how it measures them (docs/analysis.md, "The cloud's edge").
-NumPy and Matplotlib's PNG reader only.
+Reads the runs with python/aar_stereo (NumPy, PIL).
 """
 
 import argparse
-import csv
+import sys
 from pathlib import Path
 
-import matplotlib.image
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
+import aar_stereo  # noqa: E402
 
 BANDS = (0, 3, 5, 7, 9, 12, 16)
 
@@ -70,22 +72,17 @@ def outline_distance(valid):
 
 def frame_points(run):
     """(frame, u, v, error, distance) of every point on the receiver of every dumped frame."""
-    frames = sorted(Path(run, "frames").glob("*_points.csv"))
-    if not frames:
+    dumps = [d for d in aar_stereo.open_run(run).dumps.values() if "points" in d.files]
+    if not dumps:
         raise SystemExit(f"{run}: no frames/*_points.csv (run with --dump-frames on a dataset with --depth)")
     out = []
-    for points_csv in frames:
-        stem = points_csv.name[: -len("_points.csv")]
-        image = matplotlib.image.imread(points_csv.with_name(stem + "_disparity.png"))
-        distance_map = outline_distance(image[:, :, :3].sum(axis=2) > 0)
-        with open(points_csv, newline="") as f:
-            for r in csv.DictReader(f):
-                if not r["true_disparity_px"]:
-                    continue
-                u, v = round(float(r["u_px"])), round(float(r["v_px"]))
-                distance = distance_map[v, u]
-                error = float(r["disparity_px"]) - float(r["true_disparity_px"])
-                out.append((stem, u, v, error, distance))
+    for dump in dumps:
+        distance_map = outline_distance(dump.disparity().sum(axis=2) > 0)
+        points = dump.points()
+        on = ~np.isnan(points["true_disparity_px"])
+        us, vs = (np.rint(points[c][on]).astype(int) for c in ("u_px", "v_px"))
+        errors = points["disparity_px"][on] - points["true_disparity_px"][on]
+        out += [(dump.frame, u, v, error, distance_map[v, u]) for u, v, error in zip(us, vs, errors)]
     return out
 
 

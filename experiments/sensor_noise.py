@@ -36,7 +36,7 @@ import numpy as np  # noqa: E402
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO / "experiments"))
-from aar_experiments.outputs import calibration_errors  # noqa: E402  (shared with the realism experiment)
+from aar_experiments.outputs import calibration_errors, read_summary  # noqa: E402  (shared with the realism experiment)
 from aar_experiments.thesis import COMPONENTS, REGIONS  # noqa: E402
 
 
@@ -72,7 +72,7 @@ def measure(level, args):
         run([args.analyze, "run", dataset, "--shard", args.shard, "--calibration", calib_out / "calibration.yaml",
              "--out", run_out, "--no-progress"] + pairing)
     calibration = calibration_errors(calib_out)
-    summary = json.loads((run_out / "summary.json").read_text())["models"]["shelled"]
+    summary = read_summary(run_out)["models"]["shelled"]
     first = min(dataset.glob("frames/*_left.png"))
     sky = matplotlib.image.imread(first)[:64, :64, :3] * 255.0  # the top-left corner: sky in every frame
     return {

@@ -12,6 +12,7 @@ packages=(
   libopencv-dev libeigen3-dev
   libcli11-dev libnanoflann-dev libgtest-dev libgmock-dev libssl-dev
   python3 python3-matplotlib python3-imath
+  python3-numpy python3-pil python3-openimageio python3-opencv
 )
 
 SUDO=""

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the Debian package from build/ (cpack -G DEB), installs it, renders
 # two frames and analyzes nothing else from /tmp (outside the source tree, so
-# the tools must find their data under /usr/share/aar), then removes it again.
+# the tools must find their data under /usr/share/aar), opens them with the
+# installed Python reader, then removes it again.
 # Usage: bash scripts/test-package.sh   (as root, or with sudo; after scripts/build.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -31,6 +32,13 @@ test -f "$work/two/frames/000600.json"
 test -f "$work/thesis/frames/000000_left.png"
 test -f "$work/lens/frames/000600_left.png"
 /usr/bin/aar-analyze reference --model full --points 1000 --out "$work/full.ply" >/dev/null
+# The Python reader, from the installed package (-B: no byte code left in /usr/lib for dpkg --purge to trip on).
+/usr/bin/python3 -B -c "
+import aar_stereo
+d = aar_stereo.open_dataset('two')
+assert aar_stereo.__file__.startswith('/usr/lib/python3/dist-packages/'), aar_stereo.__file__
+assert [f.index for f in d] == [600, 601] and d[1].left().shape == (768, 1024, 3), d
+"
 cd /
 rm -rf "$work"
 echo "test-package: installed package renders from /tmp"

@@ -18,7 +18,7 @@ import math
 from dataclasses import dataclass
 
 from . import plots
-from .outputs import ok_rows, read_frames, read_json, sidecar
+from .outputs import ok_rows, read_frames, read_summary, sidecar
 from .registry import register
 from .report import Report, conclude, fmt, mean_abs
 from .runner import analyze, render_calib, render_frames, selection_text
@@ -130,7 +130,7 @@ def _presets(ctx, rep, res):
         d = analyze(ctx, f"{res.dataset.name}-shelled-preset-{preset}", res.dataset, "shelled", res.selection,
                     extra=("--preset", preset))
         dirs.append(d)
-        cases.append((label, read_json(d / "summary.json")))
+        cases.append((label, read_summary(d)))
     rows = []
     for g in REGIONS:
         for label, summary in cases:

@@ -36,7 +36,7 @@ import math
 import random
 from pathlib import Path
 
-from .outputs import group_counts, group_stats, read_json
+from .outputs import group_counts, group_stats, read_summary
 from .registry import register
 from .report import Report, conclude, fmt
 from .runner import ROOT, analyze, calibrate, render_calib, render_frames, selection_text
@@ -162,7 +162,7 @@ def run(ctx):
         ideal_run = analyze(ctx, f"heldout-{seed}-ideal", ideal, "shelled", sel,
                             calibration=ideal_calibration / "calibration.yaml", extra=("--preset", "default"))
         run_dirs += [real_run, ideal_run]
-        real_summary, ideal_summary = read_json(real_run / "summary.json"), read_json(ideal_run / "summary.json")
+        real_summary, ideal_summary = read_summary(real_run), read_summary(ideal_run)
         rep.h(f"Scenario {seed}")
         rep.p(scenario["what"] + f". Path: `{Path(path).name}`; rig: `{rig_path.name}` beside this report.")
         rows = [row for region in REGIONS for row in _rows(real_summary, ideal_summary, region)]

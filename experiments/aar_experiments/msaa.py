@@ -6,7 +6,7 @@ calibration anti-aliased, and without. Figures 25-32.
 """
 
 from . import plots
-from .outputs import group_table, group_table_counts, ok_rows, pairing_of, read_frames, read_json
+from .outputs import group_table, group_table_counts, ok_rows, pairing_of, read_frames, read_json, read_summary
 from .registry import register
 from .report import COMPARISON_HEADERS, Report, comparison_rows, conclude, error_plots, fmt, ratio
 from .runner import analyze, calibrate, render_calib, render_frames, rel, selection_text, sha256_file
@@ -192,7 +192,7 @@ def run(ctx):
     cal, reports = _calibrations(ctx)
     sel = ctx.sel["conops"]
     runs, ds1, ds16 = _flight_runs(ctx, cal, sel)
-    summaries = {k: read_json(v / "summary.json") for k, v in runs.items()}
+    summaries = {k: read_summary(v) for k, v in runs.items()}
     frames = {k: read_frames(v) for k, v in runs.items()}
 
     rep = Report(ctx, "Experiment 3: effect of MSAA on calibration and pose estimation")

@@ -1,13 +1,18 @@
 """Reading the tools' outputs: frames.csv, summary.json, run.json, frame sidecars.
 
 Plain values out (dicts, tuples in thesis.COMPONENTS order), so the
-experiments and plots know the file formats only through this module.
+experiments and plots know the file formats only through this module, which
+reads run folders and datasets with the repository's python/aar_stereo.
 """
 
-import csv
 import json
+import sys
+from pathlib import Path
 
 from .thesis import COMPONENTS
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
+import aar_stereo  # noqa: E402
 
 
 def read_json(path):
@@ -16,18 +21,16 @@ def read_json(path):
 
 
 def read_frames(run_dir):
-    rows = []
-    with open(run_dir / "frames.csv", newline="") as f:
-        for r in csv.DictReader(f):
-            row = {"frame": int(r["frame"]), "region": r["region"], "status": r["status"],
-                   "range_m": float(r["range_m"])}
-            for k, v in r.items():
-                if k == "truth_error_by_fraction":  # count/sum pairs (docs/analysis.md)
-                    continue
-                if k.startswith(("err_", "est_", "truth_", "ms_", "filt_")) or k in ("sensed_points", "icp_rmse_m"):
-                    row[k] = float(v) if v not in ("", None) else None
-            rows.append(row)
-    return rows
+    """frames.csv of a run folder: one dict per row, typed (aar_stereo.read_frames_csv)."""
+    return aar_stereo.open_run(run_dir).frames
+
+
+def read_summary(run_dir):
+    return aar_stereo.open_run(run_dir).summary
+
+
+def read_run_json(run_dir):
+    return aar_stereo.open_run(run_dir).record
 
 
 def ok_rows(rows):
@@ -36,7 +39,7 @@ def ok_rows(rows):
 
 def pairing_of(run_dir):
     """ICP pairing direction a run used, from its run.json."""
-    return read_json(run_dir / "run.json").get("options", {}).get("icp", {}).get("correspondence", "?")
+    return read_run_json(run_dir).get("options", {}).get("icp", {}).get("correspondence", "?")
 
 
 def group_stats(summary, model, group, kind):
@@ -64,7 +67,8 @@ def group_table_counts(key_model, groups):
 
 
 def sidecar(dataset, frame):
-    return read_json(dataset / "frames" / f"{frame:06d}.json")
+    """The truth sidecar of a frame of a dataset, checked against the dataset's manifest."""
+    return aar_stereo.open_dataset(dataset, verify=False).frame(frame).sidecar
 
 
 def summary_without_timing(path):

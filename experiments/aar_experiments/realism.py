@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import realism_report
-from .outputs import calibration_errors, group_counts, group_stats, ok_rows, read_frames, read_json
+from .outputs import calibration_errors, group_counts, group_stats, ok_rows, read_frames, read_summary
 from .registry import register
 from .runner import ROOT, ExperimentError, analyze, calibrate, render_calib, render_frames
 
@@ -199,7 +199,7 @@ def region_results(run_dir):
     """{region: {"mae": tuple in COMPONENTS order or None, "ok": n, "frames": n, "gross": n, "stages": dict or
     None}} for the regions analyzed; gross: measured frames with an attitude error beyond GROSS_DEG
     (frames.csv); stages: stage_results of its measured frames."""
-    summary = read_json(run_dir / "summary.json")
+    summary = read_summary(run_dir)
     rows = ok_rows(read_frames(run_dir))
     out = {}
     for region in ("A", "B", "C"):

@@ -13,7 +13,7 @@ from pathlib import Path
 import matplotlib
 
 from . import plots
-from .outputs import ok_rows, read_json
+from .outputs import ok_rows, read_run_json
 from .runner import (LOG, ExperimentError, analyzer_version, binary_hashes, cpu_model, dataset_info,
                      dpkg_version, rel)
 from .thesis import COMPONENT_HEADERS, COMPONENTS
@@ -178,7 +178,7 @@ def software_and_machine(ctx, rep, run_dirs):
                "Complete", "Renderer git"], rows, ["---"] * 6)
     checks = []
     for run_dir in run_dirs:
-        run = read_json(run_dir / "run.json")
+        run = read_run_json(run_dir)
         checks.append((rel(run_dir), run.get("dataset_manifest_sha256", "?")))
     if checks:
         rep.p("Dataset manifest SHA-256 recorded by each analysis run (`run.json`):")

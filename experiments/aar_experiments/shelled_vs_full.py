@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from . import plots, report
-from .outputs import group_table, group_table_counts, pairing_of, read_frames, read_json, sidecar
+from .outputs import group_table, group_table_counts, pairing_of, read_frames, read_json, read_summary, sidecar
 from .report import COMPARISON_HEADERS, comparison_rows
 from .runner import analyze, render_calib, render_frames, selected_frames
 from .thesis import THESIS
@@ -75,8 +75,8 @@ def render_and_analyze(ctx, dataset_name, flight_path, selection, render_extra=(
     runs_tp = {m: analyze(ctx, f"{dataset_name}-{m}-model-to-sensed", ds, m, selection, extra=THESIS_PAIRING)
                for m in MODELS}
     return Runs(dataset=ds, selection=selection, runs=runs, runs_tp=runs_tp, overlay_frames=overlay_frames,
-                summaries={m: read_json(runs[m] / "summary.json") for m in runs},
-                summaries_tp={m: read_json(runs_tp[m] / "summary.json") for m in runs_tp},
+                summaries={m: read_summary(runs[m]) for m in runs},
+                summaries_tp={m: read_summary(runs_tp[m]) for m in runs_tp},
                 frames={m: read_frames(runs[m]) for m in runs},
                 pairing=pairing_of(runs["shelled"]), pairing_tp=pairing_of(runs_tp["shelled"]))
 

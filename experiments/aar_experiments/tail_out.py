@@ -8,7 +8,7 @@ per region, and the figures. The pipelines are given as {label: run folder}, lab
 """
 
 from . import plots
-from .outputs import ok_rows, read_frames, read_json, sidecar
+from .outputs import ok_rows, read_frames, read_json, read_summary, sidecar
 from .report import fmt, mean_abs
 from .runner import selected_frames, selection_text
 from .thesis import COMPONENT_HEADERS, COMPONENTS, REGIONS
@@ -192,7 +192,7 @@ def geometries(rep, runs, control):
     for g in REGIONS:
         for label in TAIL_PIPELINES:
             for rig, d in (("thesis", runs[label]), ("default", control_runs[label])):
-                st = read_json(d / "summary.json")["models"]["shelled"][g]
+                st = read_summary(d)["models"]["shelled"][g]
                 err = st.get("mean_abs_error") or {}
                 rows.append([g if label == TAIL_PIPELINES[0] and rig == "thesis" else "",
                              label if rig == "thesis" else "", rig, f"{st['ok']}/{st['frames']}"]

@@ -22,7 +22,7 @@ moves more than the noise over the segment).
 
 import math
 
-from .outputs import ok_rows, read_frames, read_json
+from .outputs import ok_rows, read_frames, read_summary
 from .registry import register
 from .report import Report, conclude, fmt
 from .runner import ROOT, analyze, render_frames
@@ -69,7 +69,7 @@ def _lag(rows, component):
 
 
 def _rows(summary, frames, region):
-    g = read_json(summary)["models"]["shelled"][region]
+    g = summary["models"]["shelled"][region]
     ok = ok_rows(frames)
     lags = [_lag(ok, c) for c in COMPONENTS]
     cells = [
@@ -102,7 +102,7 @@ def run(ctx):
         out = analyze(ctx, f"tracking-{region}", dataset, "shelled", selection,
                       calibration=dataset / "calibration_ideal.yaml", extra=("--preset", "default", "--track"))
         run_dirs.append(out)
-        g, cells = _rows(out / "summary.json", read_frames(out), region)
+        g, cells = _rows(read_summary(out), read_frames(out), region)
         rep.h(f"Region {region}: {what} (frames {first}-{first + count - 1}; {g['ok']} of {g['frames']} measured, "
               f"{g['jitter_pairs']} consecutive pairs)")
         rep.table(["", *COMPONENT_HEADERS], [[label, *values] for label, values in cells],

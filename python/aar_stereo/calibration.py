@@ -6,6 +6,8 @@ flow sequence `[ a, b ]` or an `!!opencv-matrix` with indented `rows`,
 `cols`, `dt` and `data: [ ... ]` (which may span lines).
 """
 
+from pathlib import Path
+
 import numpy as np
 
 from .errors import DataError
@@ -90,6 +92,7 @@ def read_calibration(path):
     """{key: value} of a calibration YAML: matrices (`M1`, `D1`, `M2`, `D2`, `R`, `T`, `R1`, `R2`, `P1`, `P2`,
     `Q`) as NumPy arrays of their `dt`, `image_size` as a tuple (width, height), numbers and strings as such.
     Raises DataError naming the file and line on anything else."""
+    path = Path(path)
     require_file(path, "a calibration YAML is expected here")
     try:
         lines = _Lines(path.read_text(encoding="utf-8"))

@@ -8,6 +8,7 @@ import csv
 import hashlib
 import json
 import re
+from pathlib import Path
 
 import numpy as np
 
@@ -74,6 +75,7 @@ def read_png(path):
     """A PNG as a NumPy array: H x W x 3 uint8 for RGB, H x W for grey (uint16 for 16-bit)."""
     from PIL import Image, UnidentifiedImageError
 
+    path = Path(path)
     require_file(path, "an image is expected here")
     try:
         with Image.open(path) as image:
@@ -86,6 +88,7 @@ def read_exr(path):
     """A one-channel float32 OpenEXR image (the depth truth) as an H x W float32 array, via OpenImageIO."""
     import OpenImageIO as oiio
 
+    path = Path(path)
     require_file(path, "an OpenEXR image is expected here")
     image = oiio.ImageInput.open(str(path))
     if image is None:
@@ -108,6 +111,7 @@ _PLY_TYPES = {"char": "i1", "uchar": "u1", "short": "<i2", "ushort": "<u2", "int
 
 def read_ply(path):
     """The vertices' x, y, z of a binary little-endian PLY (as aar-analyze writes) as an N x 3 float64 array."""
+    path = Path(path)
     require_file(path, "a PLY file is expected here")
     data = path.read_bytes()
     end = data.find(b"end_header\n")

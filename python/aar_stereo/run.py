@@ -46,6 +46,7 @@ def read_frames_csv(path):
     """frames.csv as a list of dicts, one per row: ints (frame, sensed_points, icp_iterations, icp_inliers,
     truth_points, truth_off_receiver, truth_off_surface), a bool (icp_converged), strings (region, status),
     truth_error_by_fraction as ((count, error sum px), ...), floats elsewhere, None for an empty field."""
+    path = Path(path)
     require_file(path, "frames.csv of an aar-analyze run")
     header, rows = read_csv(path)
     if header[0] != "frame":
