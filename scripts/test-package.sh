@@ -41,4 +41,4 @@ assert [f.index for f in d] == [600, 601] and d[1].left().shape == (768, 1024, 3
 "
 cd /
 rm -rf "$work"
-echo "test-package: installed package renders from /tmp"
+echo "test-package: installed package renders from /tmp, its Python reader opens the renders"
