@@ -400,16 +400,18 @@ int RunExport(int argc, char** argv) {
   app.add_option("dataset", options.dataset, "dataset folder")->required();
   app.add_option("--format", format,
                  "bop (6-DoF pose benchmark), middlebury (stereo: calib.txt, disparity truth), tum (trajectories), "
-                 "ros (CameraInfo YAML)")
+                 "ros (CameraInfo YAML), rosbag (ROS 1 bag: images, CameraInfo, truth and estimates)")
       ->required();
   app.add_option("--out", options.out, "output folder (created)")->required();
   app.add_option("--frames", frames, "half-open range a:b of frame indices (default: all)");
-  app.add_option("--run", run, "tum: an `aar-analyze run` folder of this dataset; writes its estimates too");
+  app.add_option("--run", run, "tum, rosbag: an `aar-analyze run` folder of this dataset; writes its estimates too");
   if (const auto code = Parse(app, argc, argv)) return *code;
   const aar::ExportFormat parsed = aar::ParseExportFormat(format);
   options.selection = aar::ParseFrameSelection(frames, "0/1");  // one output: never sharded by Slurm variables
   if (!run.empty()) {
-    if (parsed != aar::ExportFormat::kTum) throw aar::Error("--run: only with --format tum");
+    if (parsed != aar::ExportFormat::kTum && parsed != aar::ExportFormat::kRosbag) {
+      throw aar::Error("--run: only with --format tum or rosbag");
+    }
     options.run = run;
   }
   const aar::ExportResult result = aar::ExportDataset(parsed, options);
@@ -431,7 +433,7 @@ constexpr Command kCommands[] = {
     {"run", RunRun, "analyze every frame (or a selection) and summarise per region"},
     {"bench", RunBench, "time the pipeline stages per frame (median, one core); writes nothing"},
     {"merge", RunMerge, "combine the outputs of shard runs into one summary"},
-    {"export", RunExport, "write a dataset as BOP, Middlebury, TUM trajectories or ROS CameraInfo"},
+    {"export", RunExport, "write a dataset as BOP, Middlebury, TUM trajectories, ROS CameraInfo or a ROS bag"},
 };
 
 void PrintUsage(FILE* out) {

@@ -4,9 +4,11 @@
 #include <array>
 #include <charconv>
 
+#include "aar/analyzer/analysis_run.h"
 #include "aar/analyzer/export_bop.h"
 #include "aar/analyzer/export_middlebury.h"
 #include "aar/analyzer/export_ros.h"
+#include "aar/analyzer/export_rosbag.h"
 #include "aar/analyzer/export_tum.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
@@ -24,15 +26,18 @@ std::string ToString(ExportFormat format) {
       return "tum";
     case ExportFormat::kRos:
       return "ros";
+    case ExportFormat::kRosbag:
+      return "rosbag";
   }
   return "bop";
 }
 
 ExportFormat ParseExportFormat(const std::string& text) {
-  for (ExportFormat f : {ExportFormat::kBop, ExportFormat::kMiddlebury, ExportFormat::kTum, ExportFormat::kRos}) {
+  for (ExportFormat f :
+       {ExportFormat::kBop, ExportFormat::kMiddlebury, ExportFormat::kTum, ExportFormat::kRos, ExportFormat::kRosbag}) {
     if (text == ToString(f)) return f;
   }
-  throw Error("--format '" + text + "': expected bop, middlebury, tum or ros");
+  throw Error("--format '" + text + "': expected bop, middlebury, tum, ros or rosbag");
 }
 
 ExportSource ReadExportSource(const ExportOptions& options) {
@@ -49,6 +54,20 @@ ExportSource ReadExportSource(const ExportOptions& options) {
   for (size_t index : selected)
     source.frames.push_back(ReadListedSidecar(options.dataset, source.manifest, "frame", index));
   return source;
+}
+
+std::vector<FrameResult> ReadRunEstimates(const ExportOptions& options) {
+  if (!options.run) return {};
+  const std::filesystem::path run_json = *options.run / kRunJsonName;
+  const std::string manifest_hash = ReadJsonFile(run_json).value("dataset_manifest_sha256", "");
+  if (manifest_hash != Sha256File(options.dataset / kManifestName)) {
+    throw Error(run_json.string() + ": the run analyzed another dataset (dataset_manifest_sha256 differs from " +
+                (options.dataset / kManifestName).string() + "'s)");
+  }
+  std::vector<FrameResult> estimates = ReadFrameResults(*options.run / kFramesCsvName);
+  std::sort(estimates.begin(), estimates.end(),
+            [](const FrameResult& a, const FrameResult& b) { return a.frame < b.frame; });
+  return estimates;
 }
 
 StereoCalibration ReadIdealCalibration(const ExportSource& source) {
@@ -102,6 +121,8 @@ ExportResult ExportInto(ExportFormat format, const ExportOptions& options) {
       return ExportTum(options);
     case ExportFormat::kRos:
       return ExportRos(options);
+    case ExportFormat::kRosbag:
+      return ExportRosbag(options);
   }
   throw Error("export: unknown format");
 }

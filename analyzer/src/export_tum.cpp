@@ -1,21 +1,15 @@
 #include "aar/analyzer/export_tum.h"
 
-#include <algorithm>
 #include <set>
 
-#include "aar/analyzer/analysis_run.h"
 #include "aar/analyzer/frame_results.h"
-#include "aar/error.h"
-#include "aar/file_io.h"
 #include "aar/text.h"
 
 namespace aar {
 
 std::string TumLine(double time_s, const Pose& tanker_from_receiver) {
   const Eigen::Isometry3d pose = IsometryFromPose(tanker_from_receiver);
-  Eigen::Quaterniond q(pose.linear());
-  q.normalize();
-  if (q.w() < 0.0) q.coeffs() = -q.coeffs();  // one of the two signs, always the same
+  const Eigen::Quaterniond q = UnitQuaternion(pose.linear());
   const Eigen::Vector3d& t = pose.translation();
   std::string line = FormatFixed(time_s, 9);
   for (double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) line += " " + FormatFixed(v, 9);
@@ -24,16 +18,7 @@ std::string TumLine(double time_s, const Pose& tanker_from_receiver) {
 
 ExportResult ExportTum(const ExportOptions& options) {
   const ExportSource source = ReadExportSource(options);
-  std::vector<FrameResult> estimates;
-  if (options.run) {
-    const std::filesystem::path run_json = *options.run / kRunJsonName;
-    const std::string manifest_hash = ReadJsonFile(run_json).value("dataset_manifest_sha256", "");
-    if (manifest_hash != Sha256File(options.dataset / kManifestName)) {
-      throw Error(run_json.string() + ": the run analyzed another dataset (dataset_manifest_sha256 differs from " +
-                  (options.dataset / kManifestName).string() + "'s)");
-    }
-    estimates = ReadFrameResults(*options.run / kFramesCsvName);
-  }
+  const std::vector<FrameResult> estimates = ReadRunEstimates(options);
   const std::string header = "# t tx ty tz qx qy qz qw: tanker_from_receiver, time [s], translation [m]\n";
   std::string truth = header;
   std::set<size_t> selected;
@@ -45,8 +30,6 @@ ExportResult ExportTum(const ExportOptions& options) {
   result.frames = source.frames.size();
   WriteExportFile(options.out, "truth.tum", truth, result);
   if (options.run) {
-    std::sort(estimates.begin(), estimates.end(),
-              [](const FrameResult& a, const FrameResult& b) { return a.frame < b.frame; });
     std::string text = header;
     size_t written = 0;
     for (const FrameResult& r : estimates) {

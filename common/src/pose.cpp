@@ -24,6 +24,13 @@ Eigen::Isometry3d IsometryFromPose(const Pose& pose) {
   return a_from_b;
 }
 
+Eigen::Quaterniond UnitQuaternion(const Eigen::Matrix3d& rotation) {
+  Eigen::Quaterniond q(rotation);
+  q.normalize();
+  if (q.w() < 0.0) q.coeffs() = -q.coeffs();
+  return q;
+}
+
 Pose PoseFromIsometry(const Eigen::Isometry3d& a_from_b) {
   // R = Rz(y) Ry(p) Rx(r):  R(2,0) = -sin(p), R(2,1) = cos(p) sin(r),
   // R(2,2) = cos(p) cos(r), R(1,0) = sin(y) cos(p), R(0,0) = cos(y) cos(p).

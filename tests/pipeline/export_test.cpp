@@ -1,7 +1,8 @@
 // `aar-analyze export` on the near-contact dataset (depth truth of both
 // cameras): BOP poses project the model onto the exported masks, Middlebury
 // disparity is f b / Z and consistent between the views, TUM and ROS files
-// carry the truth, the estimates and the calibration; bad input writes nothing.
+// carry the truth, the estimates and the calibration, and so does the ROS bag as
+// python3-rosbag reads it; bad input writes nothing.
 
 #include <gtest/gtest.h>
 
@@ -189,7 +190,7 @@ TEST(Export, MiddleburyDisparityIsFocalTimesBaselineOverDepth) {
   EXPECT_GE(std::stoi(calib.at("ndisp")), static_cast<int>(std::ceil(max_d)));
 }
 
-TEST(Export, TumAndRosCarryTruthEstimatesAndCalibration) {
+TEST(Export, TumRosAndRosbagCarryTruthEstimatesAndCalibration) {
   ASSERT_DATASETS();
   TempDir dir("export-tum");
   const fs::path dataset = SharedDatasets().near_contact;
@@ -238,6 +239,14 @@ TEST(Export, TumAndRosCarryTruthEstimatesAndCalibration) {
   EXPECT_DOUBLE_EQ(values[0], k.fx_px);
   EXPECT_DOUBLE_EQ(values[2], k.cx_px);
   EXPECT_NEAR(values[3], -k.fx_px * s.rig.Baseline(), 1e-9) << fb;
+
+  // The bag, read back by Debian's python3-rosbag (tests/pipeline/check_rosbag.py).
+  ASSERT_TRUE(Export(dataset, "rosbag", dir / "bag", "--frames 0:2 --run " + Quote(dir / "run")));
+  const test::CommandResult check =
+      test::RunCommand("/usr/bin/python3 " + Quote(test::SourcePath("tests/pipeline/check_rosbag.py")) + " " +
+                       Quote(dir / "bag/dataset.bag") + " " + Quote(dataset) + " 0 2 " + Quote(dir / "run"));
+  EXPECT_EQ(check.exit_code, 0) << check.output;
+  EXPECT_NE(check.output.find("rosbag ok: 15 messages on 8 topics, 2 estimates"), std::string::npos) << check.output;
 }
 
 TEST(Export, WithoutDepthTruthFailsNamingTheSidecarAndWritesNothing) {
@@ -255,7 +264,8 @@ TEST(Export, WithoutDepthTruthFailsNamingTheSidecarAndWritesNothing) {
   const test::CommandResult r =
       RunAnalyze("export " + Quote(SharedDatasets().out_of_view) + " --format xyz --out " + Quote(dir / "x"));
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_NE(r.output.find("--format 'xyz': expected bop, middlebury, tum or ros"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--format 'xyz': expected bop, middlebury, tum, ros or rosbag"), std::string::npos)
+      << r.output;
 }
 
 TEST(Export, ChangedSidecarFailsNamingItAndWritesNothing) {

@@ -19,6 +19,10 @@ Eigen::Matrix3d RotationFromRollPitchYaw(double roll_deg, double pitch_deg, doub
 /// The rigid transform a_from_b described by `pose` (pose of b expressed in a).
 Eigen::Isometry3d IsometryFromPose(const Pose& pose);
 
+/// The unit quaternion of a rotation matrix, with w >= 0 (one of its two
+/// signs, always the same).
+Eigen::Quaterniond UnitQuaternion(const Eigen::Matrix3d& rotation);
+
 /// Inverse of IsometryFromPose; pitch in [-90, 90], roll and yaw in (-180, 180].
 Pose PoseFromIsometry(const Eigen::Isometry3d& a_from_b);
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "aar/analyzer/frame_results.h"
 #include "aar/dataset.h"
 #include "aar/frame_selection.h"
 #include "aar/stereo_calibration.h"
@@ -22,16 +23,18 @@ enum class ExportFormat {
   kMiddlebury,  ///< Middlebury stereo: calib.txt, im0/im1.png, disp0GT.pfm (disp1GT.pfm)
   kTum,         ///< TUM trajectories (truth, and an analyzer run's estimates)
   kRos,         ///< ROS CameraInfo YAML of both cameras
+  kRosbag,      ///< ROS 1 bag: images, CameraInfo, truth as tf and poses (and an analyzer run's estimates)
 };
 std::string ToString(ExportFormat format);
-/// "bop" / "middlebury" / "tum" / "ros"; throws aar::Error on other text.
+/// "bop" / "middlebury" / "tum" / "ros" / "rosbag"; throws aar::Error on other text.
 ExportFormat ParseExportFormat(const std::string& text);
 
 struct ExportOptions {
-  std::filesystem::path dataset;             ///< dataset folder (read only)
-  std::filesystem::path out;                 ///< output folder (created; files in it are replaced)
-  FrameSelection selection;                  ///< frames exported (all by default)
-  std::optional<std::filesystem::path> run;  ///< tum: an `aar-analyze run` folder whose estimates are written too
+  std::filesystem::path dataset;  ///< dataset folder (read only)
+  std::filesystem::path out;      ///< output folder (created; files in it are replaced)
+  FrameSelection selection;       ///< frames exported (all by default)
+  std::optional<std::filesystem::path>
+      run;  ///< tum, rosbag: an `aar-analyze run` folder whose estimates are written too
 };
 
 struct ExportResult {
@@ -61,6 +64,11 @@ ExportSource ReadExportSource(const ExportOptions& options);
 /// A file of a frame, read and checked against the sidecar's (and the
 /// manifest's) SHA-256; throws aar::Error naming the file otherwise.
 std::string ReadVerifiedFile(const ExportSource& source, const FileRef& ref);
+
+/// The frames of ExportOptions::run (none without one), ascending; throws
+/// aar::Error naming run.json when the run analyzed another dataset
+/// (dataset_manifest_sha256), and as ReadFrameResults on a bad frames.csv.
+std::vector<FrameResult> ReadRunEstimates(const ExportOptions& options);
 
 /// The dataset's calibration_ideal.yaml, checked against the manifest's
 /// SHA-256; throws aar::Error naming it when missing or changed.
