@@ -76,7 +76,7 @@ struct RunFlags {
   std::optional<int> icp_iterations, num_disparities, block_size, halo_radius, uniqueness_ratio, speckle_window;
   std::optional<double> max_correspondence_m, disparity_offset_px, disparity_noise_px, gate_sigmas, model_pull_scale_m;
   std::optional<size_t> keep_one_in, target_points, model_queries;
-  std::optional<bool> halo, subpixel, rounding, widen, balance, full_surface;
+  std::optional<bool> halo, subpixel, rounding, widen, balance, full_surface, noise_bias;
   bool truth_cloud = false, track = false, mask_boom = false, no_mask_boom = false, mask_propellers = false,
        no_mask_propellers = false;
   double truth_cloud_noise_px = 0.0;
@@ -154,6 +154,9 @@ struct RunFlags {
     cmd->add_option("--disparity-offset", disparity_offset_px,
                     "also subtracted from every disparity, refined or not [px] (0)");
     cmd->add_option("--disparity-noise", disparity_noise_px, "disparity noise of the ICP noise model [px] (0.1)");
+    cmd->add_option("--noise-bias-correction", noise_bias,
+                    "point-to-plane, metric residual: after convergence, one step removing the rotation bias of the "
+                    "sensed points' noise, scaled to the frame's residuals (default: false)");
     cmd->add_option("--keep-one-in", keep_one_in, "keep one re-projected point in N (8)");
     cmd->add_option("--target-points", target_points,
                     "raise the decimation so that about this many points remain (default preset 4000; 0 = off)");
@@ -238,6 +241,7 @@ struct RunFlags {
     if (window_bias) f.correct_window_bias = *window_bias;
     if (widen) f.widen_disparity_search = *widen;
     if (balance) f.plane_icp.balance_directions = *balance;
+    if (noise_bias) f.plane_icp.noise_bias_correction = *noise_bias;
     if (gate_sigmas) f.plane_icp.gate_sigmas = *gate_sigmas;
     if (full_surface) f.pair_sensed_with_full_surface = *full_surface;
     if (model_queries) f.plane_icp.max_model_queries = *model_queries;

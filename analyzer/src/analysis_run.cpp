@@ -50,6 +50,7 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
                          {"pairing", ToString(p.pairing)},
                          {"residual", ToString(p.residual)},
                          {"converged_chi2", p.converged_chi2},
+                         {"noise_bias_correction", p.noise_bias_correction},
                          {"sensed_pairing_surface", f.pair_sensed_with_full_surface ? "full" : "model"},
                          {"model_pull_scale_m", p.model_pull_scale_m},
                          {"gate_sigmas", p.gate_sigmas},

@@ -58,6 +58,11 @@ Eigen::Vector3d RayLever(const Eigen::Vector3d& p, const Eigen::Vector3d& n, con
 struct NormalEquations {
   Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+  // PlaneIcpOptions::noise_bias_correction: the noise term's gradient and
+  // each pair's r^2 / sigma^2, gathered by Add when noise_bias is set.
+  bool noise_bias = false;
+  Eigen::Matrix<double, 6, 1> noise_gradient = Eigen::Matrix<double, 6, 1>::Zero();
+  std::vector<double> normalized_squares;
 
   // Residual r = n . (p - s) of a model point p (tanker frame, normal n) and a
   // sensed point s; Jacobian [ (s - centre) x n, n ] for the perturbation
@@ -77,6 +82,11 @@ struct NormalEquations {
     j.head<3>() = (lever - centre).cross(n);
     j.tail<3>() = n;
     Accumulate(j, w, r);
+    if (noise_bias) {
+      // The gradient of the pair's expected noise term (see PlaneIcpOptions::noise_bias_correction).
+      noise_gradient.head<3>() += w * (noise.ray_variance - noise.lateral_variance) * along * noise.ray.cross(n);
+      normalized_squares.push_back(r * r / variance);
+    }
     sum_squared += r * r;
   }
 
@@ -136,9 +146,10 @@ struct NormalEquations {
     g.noalias() += w * r * j;
   }
 
-  Eigen::Matrix<double, 6, 1> Solve() {
+  Eigen::Matrix<double, 6, 1> Solve() { return Solve(g); }
+  Eigen::Matrix<double, 6, 1> Solve(const Eigen::Matrix<double, 6, 1>& gradient) {
     h.triangularView<Eigen::StrictlyLower>() = h.transpose();
-    return -h.ldlt().solve(g);
+    return -h.ldlt().solve(gradient);
   }
 };
 
@@ -265,6 +276,12 @@ void PlaneIcpOptions::Check() const {
   }
   if (kdtree_leaf_size < 1) throw Error("point-to-plane ICP: kdtree_leaf_size must be >= 1");
   if (!(converged_chi2 >= 0.0)) throw Error("point-to-plane ICP: converged_chi2 must be >= 0");
+  if (noise_bias_correction && (residual != PlaneResidual::kMetric || pairing == PlanePairing::kSymmetric)) {
+    throw Error(
+        "--noise-bias-correction: only with the metric residual and sensed-to-model pairs (not --pairing "
+        "symmetric, --residual " +
+        ToString(residual) + ")");
+  }
 }
 
 PlaneIcpRegistration::PlaneIcpRegistration(std::vector<Eigen::Vector3d> model_points_in_receiver,
@@ -360,6 +377,15 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
   // nearest-neighbour cache, so they are the expensive ones.
   size_t coarse =
       std::max<size_t>(1, std::min(o.coarse_stride, sensed.size() / std::max<size_t>(1, o.coarse_min_points)));
+  // p -> centre + R_w (p - centre) + v for step = (w, v)
+  const auto apply = [&result, &centre](const Eigen::Matrix<double, 6, 1>& step) {
+    const Eigen::Vector3d w = step.head<3>();
+    const double angle = w.norm();
+    Eigen::Isometry3d increment = Eigen::Isometry3d::Identity();
+    if (angle > 0.0) increment.linear() = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+    increment.translation() = centre + step.tail<3>() - increment.linear() * centre;
+    result.tanker_from_receiver = increment * result.tanker_from_receiver;
+  };
   for (int k = 0;; ++k) {
     const Eigen::Isometry3d& tanker_from_receiver = result.tanker_from_receiver;
     const Eigen::Isometry3d receiver_from_tanker = tanker_from_receiver.inverse();
@@ -374,6 +400,7 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
       if (turn > max_ray_turn_rad) build_metric_search(tanker_from_receiver);
     }
     NormalEquations equations;
+    equations.noise_bias = o.noise_bias_correction && coarse == 1;
     double sum_squared = 0.0;
     size_t inliers = 0;
     for (size_t i = 0; i < sensed.size(); i += coarse) {
@@ -435,21 +462,31 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
     result.num_inliers = inliers;
     result.rmse_m = rmse;
     result.fitness = static_cast<double>(inliers) / static_cast<double>(sensed.size());
-    if (result.converged || k == o.max_iterations || inliers < 6) break;
+    if (result.converged || k == o.max_iterations || inliers < 6) {
+      if (equations.noise_bias && inliers >= 6) {
+        // One step against the noise's own term, its variances scaled to the pairs' (noise_bias_correction).
+        std::vector<double>& squares = equations.normalized_squares;
+        auto middle = squares.begin() + static_cast<std::ptrdiff_t>(squares.size() / 2);
+        std::nth_element(squares.begin(), middle, squares.end());
+        constexpr double kChiSquareOneMedian = 0.4549364;
+        const double scale_squared = *middle / kChiSquareOneMedian;
+        const Eigen::Matrix<double, 6, 1> step = equations.Solve(scale_squared * equations.noise_gradient);
+        if (step.allFinite()) {
+          apply(step);
+          result.noise_scale = std::sqrt(scale_squared);
+        }
+      }
+      break;
+    }
 
     const Eigen::Matrix<double, 6, 1> step = equations.Solve();
     if (!step.allFinite()) break;
-    const Eigen::Vector3d w = step.head<3>();
-    const Eigen::Vector3d v = step.tail<3>();
-    const double angle = w.norm();
-    Eigen::Isometry3d increment = Eigen::Isometry3d::Identity();
-    if (angle > 0.0) increment.linear() = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
-    // p -> centre + R_w (p - centre) + v
-    increment.translation() = centre + v - increment.linear() * centre;
-    result.tanker_from_receiver = increment * result.tanker_from_receiver;
+    const double angle = step.head<3>().norm();
+    const double move = step.tail<3>().norm();
+    apply(step);
     ++result.iterations;
     if (coarse > 1) {
-      if (v.norm() < 10.0 * o.translation_tolerance_m && angle < 10.0 * o.rotation_tolerance_rad) coarse = 1;
+      if (move < 10.0 * o.translation_tolerance_m && angle < 10.0 * o.rotation_tolerance_rad) coarse = 1;
       continue;
     }
     // One more association after convergence gives the final statistics.
@@ -457,7 +494,7 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
     // estimate's own uncertainty, step^T H step = -g . step (chi^2 units, H
     // weighted by 1 / sigma^2), as its pairs keep switching by less than that.
     const bool within_noise = metric && -equations.g.dot(step) < o.converged_chi2;
-    result.converged = (v.norm() < o.translation_tolerance_m && angle < o.rotation_tolerance_rad) || within_noise;
+    result.converged = (move < o.translation_tolerance_m && angle < o.rotation_tolerance_rad) || within_noise;
   }
   return result;
 }

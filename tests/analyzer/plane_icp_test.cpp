@@ -173,7 +173,7 @@ TEST(PlaneIcp, MahalanobisPairingConvergesOnTheSurfacesFacingTheCameras) {
 
 // Depth noise along the rays tilts the metric residual's estimate: its rotation turns about the noisy sensed point
 // (errors in the variables). Turning it about where the ray meets the model's plane (metric-ray) does not.
-TEST(PlaneIcp, TheRayLeverArmRemovesTheNoisesTilt) {
+TEST(PlaneIcp, TheRayLeverArmAndTheNoiseBiasCorrectionRemoveTheNoisesTilt) {
   const ReferenceModel model = SampleSurfaceWithNormals(Receiver(), 8000, 7);
   const StereoNoiseGeometry geometry = Geometry();
   const ReferenceModel samples = SampleSurfaceWithNormals(Receiver(), 6000, 8);
@@ -186,19 +186,39 @@ TEST(PlaneIcp, TheRayLeverArmRemovesTheNoisesTilt) {
     // 0.3 px of disparity noise at about 14 px: 2 % of the depth.
     sensed.push_back(geometry.camera_centre_in_tanker + ray * (1.0 + 0.3 / 14.0 * random.Normal()));
   }
-  const auto angle_error_deg = [&](PlaneResidual residual) {
+  double noise_scale = 0.0;
+  const auto angle_error_deg = [&](PlaneResidual residual, bool correction, double model_noise_px) {
     PlaneIcpOptions options;
     options.pairing = PlanePairing::kMahalanobis;
     options.residual = residual;
-    options.disparity_noise_px = 0.3;
+    options.disparity_noise_px = model_noise_px;
+    options.noise_bias_correction = correction;
     const PlaneIcpRegistration icp(model.points_in_receiver, model.normals_in_receiver, geometry, options);
-    const Eigen::Isometry3d error = TruePose().inverse() * icp.Register(sensed, TruePose()).tanker_from_receiver;
+    const PlaneIcpResult result = icp.Register(sensed, TruePose());
+    noise_scale = result.noise_scale;
+    const Eigen::Isometry3d error = TruePose().inverse() * result.tanker_from_receiver;
     return Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI;
   };
-  const double metric = angle_error_deg(PlaneResidual::kMetric);
-  const double ray = angle_error_deg(PlaneResidual::kMetricRay);
-  std::printf("rotation error: metric %.3f deg, metric-ray %.3f deg\n", metric, ray);
+  const double metric = angle_error_deg(PlaneResidual::kMetric, false, 0.3);
+  EXPECT_EQ(noise_scale, 0.0);
+  const double ray = angle_error_deg(PlaneResidual::kMetricRay, false, 0.3);
+  const double corrected = angle_error_deg(PlaneResidual::kMetric, true, 0.3);
+  const double scale_at_truth = noise_scale;
+  // The model's noise a third of the points': the step follows the residuals' own scale.
+  const double corrected_low_model = angle_error_deg(PlaneResidual::kMetric, true, 0.1);
+  std::printf(
+      "rotation error: metric %.3f deg, metric-ray %.3f deg, corrected %.3f deg (noise scale %.2f), "
+      "corrected with the model's noise at 0.1 px %.3f deg (noise scale %.2f)\n",
+      metric, ray, corrected, scale_at_truth, corrected_low_model, noise_scale);
   EXPECT_LT(ray, 0.5 * metric);
+  EXPECT_LT(corrected, 0.5 * metric);
+  EXPECT_LT(corrected_low_model, 0.5 * metric);
+  EXPECT_GT(noise_scale, 1.4 * scale_at_truth);  // less than 3x: the gate at 3 model sigmas cuts the tails
+
+  PlaneIcpOptions wrong;
+  wrong.residual = PlaneResidual::kMetricRay;
+  wrong.noise_bias_correction = true;
+  EXPECT_THROW(wrong.Check(), Error);
 }
 
 TEST(PlaneIcp, ResidualNames) {

@@ -134,6 +134,19 @@ struct PlaneIcpOptions {
   size_t coarse_stride = 8;
   size_t coarse_min_points = 250;  ///< the coarse phase keeps at least this many sensed points (far clouds: none)
   double robust_scale = 2.0;       ///< Cauchy kernel scale [sigmas]
+  /// kMetric residual, sensed-to-model pairs (not kSymmetric): after
+  /// convergence, one Gauss-Newton step that removes the first-order bias
+  /// the sensed points' noise gives the rotation. The exact Jacobian's lever
+  /// arm is the noisy point itself, so the expected cost holds the noise's
+  /// own term, sigma_ray^2 (n.u)^2 + sigma_lat^2 (1 - (n.u)^2) per pair,
+  /// which a rotation lowers by turning the model's normals away from the
+  /// rays (u); the step is -H^-1 times that term's gradient,
+  /// sum w (sigma_ray^2 - sigma_lat^2) (n.u) (u x n) in the rotation's rows,
+  /// with the noise model's variances scaled by the pairs' own: the median
+  /// of r^2 / sigma^2 over the pairs divided by 0.4549 (the median of a
+  /// chi-square with one degree of freedom), so that the step follows the
+  /// noise the frame has, not the model's assumed sigma_d.
+  bool noise_bias_correction = false;
   // Stereo noise model (see above).
   double disparity_noise_px = 0.1;  ///< sigma_d: disparity noise [px]
   double lateral_noise_px = 0.5;    ///< sigma_px: image-position noise [px]
@@ -160,6 +173,9 @@ struct PlaneIcpResult {
   double rmse_m = 0.0;          ///< RMS point-to-plane distance of those pairs [m]
   double fitness = 0.0;         ///< num_inliers / sensed points
   double initial_rmse_m = 0.0;  ///< the same RMS at the initial transform [m]
+  /// With noise_bias_correction: the pairs' noise against the model's,
+  /// sqrt(median(r^2 / sigma^2) / 0.4549) (1 = as modelled; 0 = not applied).
+  double noise_scale = 0.0;
 };
 
 /// Point-to-plane ICP against one reference model, reusable across frames.
