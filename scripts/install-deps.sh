@@ -14,6 +14,7 @@ packages=(
   python3 python3-matplotlib python3-imath
   python3-numpy python3-pil python3-openimageio python3-opencv
   python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-tf2-msgs
+  chromium
 )
 
 SUDO=""
