@@ -145,12 +145,13 @@ def silhouette(pixels, size, radius):
     u, v = np.round(pixels).astype(int).T
     inside = (u >= 0) & (u < width) & (v >= 0) & (v < height)
     mask[v[inside], u[inside]] = True
+    mask = np.pad(mask, radius)  # so that np.roll wraps nothing but the padding
     for axis in (0, 1):
         grown = mask.copy()
         for shift in range(1, radius + 1):
             grown |= np.roll(mask, shift, axis) | np.roll(mask, -shift, axis)
         mask = grown
-    return mask.astype(float)
+    return mask[radius:radius + height, radius:radius + width].astype(float)
 
 
 def crop(drawn, size, margin=40):
