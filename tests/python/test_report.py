@@ -32,7 +32,7 @@ ARGS = None
 
 
 def work(*names):
-    return Path(ARGS.work, *names)
+    return Path(ARGS.work, *names).resolve()
 
 
 def setUpModule():
