@@ -60,7 +60,7 @@ def _spread(rep, frames, n_runs):
 def _byte_identity(rep, run_dirs):
     """SHA-256 of each run's outputs; returns {output: identical across runs}."""
     rep.h("Byte identity of the outputs")
-    rep.p("SHA-256 per run of: `frames.csv` without its six `ms_*` timing columns (the first 28 columns); "
+    rep.p("SHA-256 per run of: `frames.csv` without its six `ms_*` timing columns; "
           "`summary.json` without its `timing` object (parsed, `timing` removed, re-serialized with sorted keys, "
           "so equal hashes mean equal content); `calibration.yaml`; `run.json`; the reference PLY.")
     rows = []

@@ -78,12 +78,11 @@ def summary_without_timing(path):
 
 
 def frames_csv_without_timing(path):
-    """frames.csv with the ms_* columns (the last six) removed, as bytes."""
-    out = []
+    """frames.csv without its ms_* timing columns (named in the header), as bytes."""
     with open(path, newline="") as f:
-        for line in f.read().splitlines():
-            out.append(",".join(line.split(",")[:28]))
-    return ("\n".join(out) + "\n").encode()
+        lines = f.read().splitlines()
+    keep = [i for i, name in enumerate(lines[0].split(",")) if not name.startswith("ms_")]
+    return "".join(",".join(line.split(",")[i] for i in keep) + "\n" for line in lines).encode()
 
 
 # Errors of a calibration against the rig it was rendered with (calibration_report.json; docs/analysis.md,
