@@ -120,6 +120,12 @@ class Serializer {
     bytes_ += s;
   }
   void Raw(const std::string& s) { bytes_ += s; }
+  void Raw(const char* data, size_t size) { bytes_.append(data, size); }
+  // A header field "name=value" with its uint32 length (record headers and connection headers).
+  void Field(const std::string& name, const std::string& value) {
+    U32(static_cast<uint32_t>(name.size() + 1 + value.size()));
+    bytes_ += name + "=" + value;
+  }
   void Header(uint32_t seq, const RosTime& stamp, const std::string& frame_id) {
     U32(seq);
     Time(stamp);
@@ -131,19 +137,17 @@ class Serializer {
     for (double v : {q.x(), q.y(), q.z(), q.w()}) F64(v);
   }
   const std::string& bytes() const { return bytes_; }
-  std::string& bytes() { return bytes_; }
 
  private:
   std::string bytes_;
 };
 
-// A record header field "name=value" with its uint32 length.
+// A record's header: its fields, the op code first.
 class RecordHeader {
  public:
   explicit RecordHeader(uint8_t op) { Field("op", std::string(1, static_cast<char>(op))); }
   RecordHeader& Field(const std::string& name, const std::string& value) {
-    fields_.U32(static_cast<uint32_t>(name.size() + 1 + value.size()));
-    fields_.Raw(name + "=" + value);
+    fields_.Field(name, value);
     return *this;
   }
   RecordHeader& U32(const std::string& name, uint32_t v) {
@@ -184,16 +188,12 @@ struct Connection {
   std::string Record() const {
     // The connection header (the data) is a field list of its own, without an op.
     Serializer data;
-    const auto add = [&data](const std::string& name, const std::string& value) {
-      data.U32(static_cast<uint32_t>(name.size() + 1 + value.size()));
-      data.Raw(name + "=" + value);
-    };
-    add("topic", topic);
-    add("type", type.name);
-    add("md5sum", type.md5sum);
-    add("message_definition", type.definition);
-    add("callerid", "/aar_analyze_export");
-    if (latching) add("latching", "1");
+    data.Field("topic", topic);
+    data.Field("type", type.name);
+    data.Field("md5sum", type.md5sum);
+    data.Field("message_definition", type.definition);
+    data.Field("callerid", "/aar_analyze_export");
+    if (latching) data.Field("latching", "1");
     return RecordHeader(kOpConnection).U32("conn", id).Field("topic", topic).Record(data.bytes());
   }
 };
@@ -284,7 +284,7 @@ std::string ImageMessage(const cv::Mat& stored, uint32_t seq, const RosTime& sta
   m.U8(0);  // is_bigendian
   m.U32(static_cast<uint32_t>(step));
   m.U32(static_cast<uint32_t>(step * image.rows));
-  for (int y = 0; y < image.rows; ++y) m.Raw(std::string(image.ptr<char>(y), step));
+  for (int y = 0; y < image.rows; ++y) m.Raw(image.ptr<char>(y), step);
   return m.bytes();
 }
 

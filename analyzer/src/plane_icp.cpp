@@ -54,6 +54,13 @@ Eigen::Vector3d RayLever(const Eigen::Vector3d& p, const Eigen::Vector3d& n, con
   return t > 0.0 ? Eigen::Vector3d(geometry.camera_centre_in_tanker + t * noise.ray) : sensed;
 }
 
+// The element at v.size() / 2 in sorted order (reorders v).
+double UpperMedian(std::vector<double>& v) {
+  const auto middle = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), middle, v.end());
+  return *middle;
+}
+
 // Normal equations of one Gauss-Newton step in the frame centred on `centre`.
 struct NormalEquations {
   Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
@@ -150,6 +157,14 @@ struct NormalEquations {
   Eigen::Matrix<double, 6, 1> Solve(const Eigen::Matrix<double, 6, 1>& gradient) {
     h.triangularView<Eigen::StrictlyLower>() = h.transpose();
     return -h.ldlt().solve(gradient);
+  }
+
+  // The step against the noise's own term with the variances scaled by
+  // scale_squared = median(r^2 / sigma^2) / (chi-square(1)'s median).
+  Eigen::Matrix<double, 6, 1> NoiseBiasStep(double& scale_squared) {
+    constexpr double kChiSquareOneMedian = 0.4549364;
+    scale_squared = UpperMedian(normalized_squares) / kChiSquareOneMedian;
+    return Solve(scale_squared * noise_gradient);
   }
 };
 
@@ -352,13 +367,8 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
       ratios.push_back(std::sqrt(noise[i].lateral_variance / noise[i].ray_variance));
       ranges.push_back((sensed[i] - geometry_.camera_centre_in_tanker).norm());
     }
-    const auto median = [](std::vector<double>& v) {
-      auto middle = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-      std::nth_element(v.begin(), middle, v.end());
-      return *middle;
-    };
-    max_ray_turn_rad = median(ratios);
-    range_m = median(ranges);
+    max_ray_turn_rad = UpperMedian(ratios);
+    range_m = UpperMedian(ranges);
     build_metric_search(initial_tanker_from_receiver);
   }
   CachedNearest to_model(own_surface ? *surface_tree_ : *model_tree_, metric ? 0 : sensed.size(), true, search_radius);
@@ -464,13 +474,8 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
     result.fitness = static_cast<double>(inliers) / static_cast<double>(sensed.size());
     if (result.converged || k == o.max_iterations || inliers < 6) {
       if (equations.noise_bias && inliers >= 6) {
-        // One step against the noise's own term, its variances scaled to the pairs' (noise_bias_correction).
-        std::vector<double>& squares = equations.normalized_squares;
-        auto middle = squares.begin() + static_cast<std::ptrdiff_t>(squares.size() / 2);
-        std::nth_element(squares.begin(), middle, squares.end());
-        constexpr double kChiSquareOneMedian = 0.4549364;
-        const double scale_squared = *middle / kChiSquareOneMedian;
-        const Eigen::Matrix<double, 6, 1> step = equations.Solve(scale_squared * equations.noise_gradient);
+        double scale_squared = 0.0;
+        const Eigen::Matrix<double, 6, 1> step = equations.NoiseBiasStep(scale_squared);
         if (step.allFinite()) {
           apply(step);
           result.noise_scale = std::sqrt(scale_squared);

@@ -10,7 +10,8 @@ import numpy as np
 
 from .calibration import read_calibration
 from .errors import DataError
-from .formats import SHA256_HEX, check_hash, parse_float, read_csv, read_exr, read_json, read_png, require_file
+from .formats import (SHA256_HEX, FrameSequence, check_hash, parse_float, read_csv, read_exr, read_json, read_png,
+                      require_file)
 
 SCHEMA = "aar-dataset/1"
 MAX_FRAMES = 10 ** 7
@@ -149,7 +150,7 @@ class CalibPair(Pair):
     """A calibration board pair: images and the board's pose (`poses`, `sidecar`)."""
 
 
-class Dataset:
+class Dataset(FrameSequence):
     """A dataset folder; see `open_dataset`. A sequence of its frames in frame order."""
 
     def __init__(self, path, verify=True):
@@ -230,16 +231,6 @@ class Dataset:
         if expected and s.get("settings_sha256", expected) != expected:
             raise DataError(path, "rendered with other settings than manifest.json records")
         return s
-
-    def __len__(self):
-        return len(self.frames)
-
-    def __iter__(self):
-        return iter(self.frames)
-
-    def __getitem__(self, position):
-        """The frame at `position` in frame order (0 is the first frame rendered, whatever its index)."""
-        return self.frames[position]
 
     def __repr__(self):
         return f"<Dataset {self.path}: {len(self.frames)} frames, {len(self.calib_pairs)} calibration pairs>"

@@ -139,3 +139,17 @@ def read_ply(path):
         raise DataError(path, f"truncated: {count} vertices announced, {len(body) // dtype.itemsize} present")
     vertices = np.frombuffer(body, dtype=dtype, count=count)
     return np.stack([vertices["x"], vertices["y"], vertices["z"]], axis=1).astype(np.float64)
+
+
+class FrameSequence:
+    """len(), iteration and indexing over `self.frames`, in their order (a dataset's frames, a run's rows)."""
+
+    def __len__(self):
+        return len(self.frames)
+
+    def __iter__(self):
+        return iter(self.frames)
+
+    def __getitem__(self, position):
+        """The item at `position` in order (0 is the first, whatever its frame index)."""
+        return self.frames[position]

@@ -8,7 +8,7 @@ import numpy as np
 
 from .calibration import read_calibration
 from .errors import DataError
-from .formats import parse_float, read_csv, read_json, read_ply, read_png, require_file
+from .formats import FrameSequence, parse_float, read_csv, read_json, read_ply, read_png, require_file
 
 # frames.csv's column types; every other column is a float (None where empty).
 INT_COLUMNS = frozenset({"frame", "sensed_points", "icp_iterations", "icp_inliers", "truth_points",
@@ -96,7 +96,7 @@ class FrameDump:
                 for c, values in columns.items()}
 
 
-class Run:
+class Run(FrameSequence):
     """A run folder; see `open_run`. A sequence of frames.csv's rows."""
 
     def __init__(self, path):
@@ -110,15 +110,6 @@ class Run:
         if analyzed != len(self.frames):
             raise DataError(self.path / "frames.csv", f"{len(self.frames)} rows, but run.json says {analyzed} "
                                                       "frames were analyzed (frames.csv of another run?)")
-
-    def __len__(self):
-        return len(self.frames)
-
-    def __iter__(self):
-        return iter(self.frames)
-
-    def __getitem__(self, position):
-        return self.frames[position]
 
     def __repr__(self):
         return f"<Run {self.path}: {self.record.get('model')} model, {len(self.frames)} frames>"
