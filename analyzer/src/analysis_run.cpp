@@ -10,6 +10,7 @@
 #include "aar/analyzer/bop_metrics.h"
 #include "aar/analyzer/mesh.h"
 #include "aar/analyzer/ply.h"
+#include "aar/analyzer/stereo_truth.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
 #include "aar/flight_path.h"
@@ -467,7 +468,8 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   for (size_t index : selected) {
     FrameDump dump;
     const bool dumped = options.write_outputs && dump_frames.contains(index);
-    FrameResult frame = analyzer.Analyze(options.dataset, index, manifest, history, dumped ? &dump : nullptr);
+    std::optional<DepthTruth> depth;  // VSD's test depth, where the dataset has it
+    FrameResult frame = analyzer.Analyze(options.dataset, index, manifest, history, dumped ? &dump : nullptr, &depth);
     if (dumped) WriteFrameDump(out / kFrameDumpDir, index, dump, projection);
     if (frame.ok()) {
       history.before_last = history.last;
@@ -483,9 +485,13 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
       if (options.progress) std::fprintf(stderr, "frame %zu not measured: %s\n", index, frame.status.c_str());
     }
     if (frame.has_estimate) {
-      frame.bop_errors =
-          ComputePoseErrorMetrics(bop_object, rig.left.intrinsics, left_from_tanker * IsometryFromPose(frame.estimate),
-                                  left_from_tanker * IsometryFromPose(frame.truth));
+      const Eigen::Isometry3d estimate = left_from_tanker * IsometryFromPose(frame.estimate);
+      const Eigen::Isometry3d truth = left_from_tanker * IsometryFromPose(frame.truth);
+      frame.bop_errors = ComputePoseErrorMetrics(bop_object, rig.left.intrinsics, estimate, truth);
+      if (depth && rig.left.intrinsics.distortion.IsZero()) {  // BOP's camera is a pinhole
+        frame.bop_errors->vsd =
+            ComputeVsd(mesh, rig.left.intrinsics, estimate, truth, depth->depth_m, bop_object.diameter_m(), rig.near_m);
+      }
     }
     result.frames.push_back(std::move(frame));
     if (options.progress) progress.Advance();

@@ -116,6 +116,16 @@ BopScores ScoreBop(const std::vector<std::optional<PoseErrorMetrics>>& errors, c
   const double add_threshold = kAddThresholdFraction * scale.diameter_m;
   s.add_recall = Recall(errors, add_threshold, [](const PoseErrorMetrics& e) { return e.add_m; });
   s.adds_recall = Recall(errors, add_threshold, [](const PoseErrorMetrics& e) { return e.adds_m; });
+  if (std::any_of(errors.begin(), errors.end(), [](const auto& e) { return e && e->vsd; })) {
+    double sum = 0.0;
+    for (size_t t = 0; t < kVsdTauFractions.size(); ++t) {
+      for (double theta : kVsdThresholds) {
+        sum += Recall(errors, theta, [t](const PoseErrorMetrics& e) { return e.vsd ? (*e.vsd)[t] : 1.0; });
+      }
+    }
+    s.ar_vsd = sum / static_cast<double>(kVsdTauFractions.size() * kVsdThresholds.size());
+    s.ar = (*s.ar_vsd + s.ar_mssd + s.ar_mspd) / 3.0;
+  }
   return s;
 }
 

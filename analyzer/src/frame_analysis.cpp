@@ -389,10 +389,12 @@ cv::Rect FrameAnalyzer::PredictedRegion(const Eigen::Isometry3d& tanker_from_rec
 }
 
 FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t index, const Manifest& manifest,
-                                   const TrackHistory& history, FrameDump* dump) const {
+                                   const TrackHistory& history, FrameDump* dump,
+                                   std::optional<DepthTruth>* depth_truth) const {
   const auto frame_start = std::chrono::steady_clock::now();
   FrameResult r;
   r.frame = index;
+  if (depth_truth != nullptr) depth_truth->reset();
   try {
     auto start = std::chrono::steady_clock::now();
     const FrameSidecar sidecar = ReadListedSidecar(dataset, manifest, "frame", index);
@@ -416,6 +418,7 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
     if (options_.compare_with_truth && sidecar.files.count("left_depth") && sidecar.files.count("left_mask")) {
       truth =
           ReadDepthTruth(dataset / sidecar.files.at("left_depth").path, dataset / sidecar.files.at("left_mask").path);
+      if (depth_truth != nullptr) *depth_truth = truth;
     } else if (options_.register_truth_cloud) {
       throw Error(left_path + ": no depth truth for the ideal cloud (render with --depth)");
     }

@@ -15,9 +15,9 @@ namespace {
 
 constexpr int kValueDecimals = 6;     // seconds, metres, degrees
 constexpr int kTimeDecimals = 3;      // milliseconds
-constexpr size_t kColumns = 56;       // 57 with receiver_occluded_fraction
+constexpr size_t kColumns = 57;       // 58 with receiver_occluded_fraction
 constexpr size_t kFilterColumn = 34;  // first filt_est_* column
-constexpr size_t kBopColumn = 46;     // mssd_m, then mspd_px, add_m, adds_m
+constexpr size_t kBopColumn = 46;     // mssd_m, then mspd_px, add_m, adds_m, vsd_errors
 
 const std::array<const char*, 4> kBopColumns = {"mssd_m", "mspd_px", "add_m", "adds_m"};
 
@@ -77,6 +77,7 @@ std::string FrameResultsCsvHeader(bool boom) {
     for (const char* dof : kDofNames) h += std::string(",") + prefix + dof;
   }
   for (const char* column : kBopColumns) h += std::string(",") + column;
+  h += ",vsd_errors";
   for (const char* column : kTimeColumns) h += std::string(",") + column;
   if (boom) h += ",receiver_occluded_fraction";
   return h;
@@ -127,6 +128,11 @@ std::string FormatFrameResults(const std::vector<FrameResult>& results) {
     }
     PoseErrorMetrics bop = f.bop_errors.value_or(PoseErrorMetrics{});
     for (const double* v : BopFields(bop)) field(f.bop_errors ? FormatFixed(*v, kValueDecimals) : std::string());
+    std::string vsd;
+    if (bop.vsd) {
+      for (double e : *bop.vsd) vsd += (vsd.empty() ? "" : " ") + FormatFixed(e, kValueDecimals);
+    }
+    field(vsd);
     StageTimes times = f.times;
     for (const double* t : TimeFields(times)) field(FormatFixed(*t, kTimeDecimals));
     if (boom) {
@@ -230,7 +236,20 @@ std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::str
       }
       f.bop_errors = bop;
     }
-    size_t c = kBopColumn + 4;
+    const size_t vsd_column = kBopColumn + 4;
+    if (!fields[vsd_column].empty()) {
+      if (!f.bop_errors) throw Error(column(vsd_column) + ": vsd_errors without the other pose errors");
+      std::istringstream items(fields[vsd_column]);
+      std::string item;
+      VsdErrors vsd;
+      size_t t = 0;
+      for (; t < vsd.size() && items >> item; ++t) vsd[t] = ParseFiniteDouble(item, column(vsd_column));
+      if (t != vsd.size() || items >> item) {
+        throw Error(column(vsd_column) + ": expected " + std::to_string(vsd.size()) + " VSD errors");
+      }
+      f.bop_errors->vsd = vsd;
+    }
+    size_t c = vsd_column + 1;
     for (double* t : TimeFields(f.times)) {
       *t = ParseFiniteDouble(fields[c], column(c));
       ++c;

@@ -228,6 +228,10 @@ nlohmann::json SummaryToJson(const Summary& summary) {
         groups[g.group]["bop"] = {{"targets", g.bop->targets},       {"ar_mssd", g.bop->ar_mssd},
                                   {"ar_mspd", g.bop->ar_mspd},       {"ar_mssd_mspd", g.bop->ar_mssd_mspd},
                                   {"add_recall", g.bop->add_recall}, {"adds_recall", g.bop->adds_recall}};
+        if (g.bop->ar_vsd) {
+          groups[g.group]["bop"]["ar_vsd"] = *g.bop->ar_vsd;
+          groups[g.group]["bop"]["ar"] = *g.bop->ar;
+        }
       }
       times[g.group] = {{"icp_ms_mean", any ? nlohmann::json(g.icp_ms_mean) : nlohmann::json(nullptr)},
                         {"icp_ms_std", any ? nlohmann::json(g.icp_ms_std) : nlohmann::json(nullptr)},
@@ -324,16 +328,21 @@ std::string SummaryToMarkdown(const Summary& summary) {
     }
   }
   out += "\n";
-  bool any_bop = false;
+  bool any_bop = false, any_vsd = false;
   for (const ModelSummary& m : summary.models) {
-    for (const GroupStats& g : m.groups) any_bop = any_bop || g.bop.has_value();
+    for (const GroupStats& g : m.groups) {
+      any_bop = any_bop || g.bop.has_value();
+      any_vsd = any_vsd || (g.bop && g.bop->ar_vsd);
+    }
   }
   if (any_bop) {
     out +=
         "## BOP scores by region (AR over BOP's thresholds; ADD / ADD-S: fraction below 10 % of the diameter; a "
-        "frame without an estimate is a miss)\n\n"
-        "| Region | Model | AR MSSD | AR MSPD | AR (MSSD, MSPD) | ADD | ADD-S | Frames |\n"
-        "|---|---|---:|---:|---:|---:|---:|---:|\n";
+        "frame without an estimate is a miss)\n\n";
+    out += any_vsd ? "| Region | Model | AR VSD | AR MSSD | AR MSPD | AR | AR (MSSD, MSPD) | ADD | ADD-S | Frames |\n"
+                     "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+                   : "| Region | Model | AR MSSD | AR MSPD | AR (MSSD, MSPD) | ADD | ADD-S | Frames |\n"
+                     "|---|---|---:|---:|---:|---:|---:|---:|\n";
     for (const std::string& group : std::vector<std::string>{"all", "A", "B", "C"}) {
       for (const ModelSummary& m : summary.models) {
         const GroupStats* g = FindGroup(m, group);
@@ -341,10 +350,12 @@ std::string SummaryToMarkdown(const Summary& summary) {
         out += "|";
         AppendCell(out, group);
         AppendCell(out, DisplayName(m.model));
-        for (double v :
-             {g->bop->ar_mssd, g->bop->ar_mspd, g->bop->ar_mssd_mspd, g->bop->add_recall, g->bop->adds_recall}) {
-          AppendCell(out, FormatFixed(v, 3));
-        }
+        const auto cell = [&out](const std::optional<double>& v) { AppendCell(out, v ? FormatFixed(*v, 3) : "-"); };
+        if (any_vsd) cell(g->bop->ar_vsd);
+        cell(g->bop->ar_mssd);
+        cell(g->bop->ar_mspd);
+        if (any_vsd) cell(g->bop->ar);
+        for (double v : {g->bop->ar_mssd_mspd, g->bop->add_recall, g->bop->adds_recall}) cell(v);
         AppendCell(out, std::to_string(g->bop->targets));
         out += "\n";
       }

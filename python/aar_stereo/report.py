@@ -223,12 +223,15 @@ class Report:
                 rows = [(g, f"{groups[g]['ok']} / {groups[g]['frames']}") +
                         tuple((groups[g].get(key) or {}).get(c) for c, _ in DOF) for g in used]
                 out.append(table(head, rows, f"{caption}, model {model}"))
-            rows = [(g,) + tuple(groups[g].get("bop", {}).get(k) for k in
-                                 ("ar_mssd", "ar_mspd", "ar_mssd_mspd", "add_recall", "adds_recall")) +
+            vsd = any("ar_vsd" in groups[g].get("bop", {}) for g in used)
+            scores = (("ar_vsd", "AR VSD"),) * vsd + (("ar_mssd", "AR MSSD"), ("ar_mspd", "AR MSPD")) + \
+                (("ar", "AR"),) * vsd + (("ar_mssd_mspd", "AR (MSSD, MSPD)"), ("add_recall", "ADD"),
+                                         ("adds_recall", "ADD-S"))
+            rows = [(g,) + tuple(groups[g].get("bop", {}).get(k) for k, _ in scores) +
                     (groups[g].get("icp_iterations_mean"), groups[g].get("icp_converged"),
                      groups[g].get("icp_rmse_m_mean"), groups[g].get("sensed_points_mean")) for g in used]
-            out.append(table(("group", "AR MSSD", "AR MSPD", "AR (MSSD, MSPD)", "ADD", "ADD-S", "ICP iterations",
-                              "ICP converged", "ICP RMSE (m)", "sensed points"), rows,
+            out.append(table(("group",) + tuple(label for _, label in scores) +
+                             ("ICP iterations", "ICP converged", "ICP RMSE (m)", "sensed points"), rows,
                              f"BOP scores (docs/analysis.md, \"BOP scores\") and ICP, model {model}"))
         return "".join(out)
 

@@ -16,6 +16,8 @@ INT_COLUMNS = frozenset({"frame", "sensed_points", "icp_iterations", "icp_inlier
 BOOL_COLUMNS = frozenset({"icp_converged"})
 TEXT_COLUMNS = frozenset({"region", "status"})
 FRACTION_COLUMN = "truth_error_by_fraction"  # "count/sum" pairs, space-separated
+VSD_COLUMN = "vsd_errors"  # e_VSD at the 10 tolerances, space-separated
+VSD_TAUS = 10
 REQUIRED = ("run.json", "frames.csv", "summary.json")
 DUMP = re.compile(r"(\d{6})_(disparity\.png|sensed\.ply|model\.ply|overlay\.png|points\.csv)")
 
@@ -39,13 +41,21 @@ def _value(column, text, path, line):
     if column == FRACTION_COLUMN:
         pairs = [item.partition("/") for item in text.split()]
         return tuple((_int(n, path, line, column), parse_float(s, path, line, column)) for n, _, s in pairs)
+    if column == VSD_COLUMN:
+        if not text:
+            return None
+        errors = tuple(parse_float(item, path, line, column) for item in text.split())
+        if len(errors) != VSD_TAUS:
+            raise DataError(path, f"{column}: {len(errors)} values, not {VSD_TAUS}", line)
+        return errors
     return parse_float(text, path, line, column)
 
 
 def read_frames_csv(path):
     """frames.csv as a list of dicts, one per row: ints (frame, sensed_points, icp_iterations, icp_inliers,
     truth_points, truth_off_receiver, truth_off_surface), a bool (icp_converged), strings (region, status),
-    truth_error_by_fraction as ((count, error sum px), ...), floats elsewhere, None for an empty field."""
+    truth_error_by_fraction as ((count, error sum px), ...), vsd_errors as a tuple of 10 floats, floats
+    elsewhere, None for an empty field."""
     path = Path(path)
     require_file(path, "frames.csv of an aar-analyze run")
     header, rows = read_csv(path)
@@ -116,7 +126,8 @@ class Run(FrameSequence):
 
     def column(self, name):
         """One column of frames.csv as a NumPy array: int64, bool, str, an object array of tuples for
-        truth_error_by_fraction, float64 (NaN where empty) for the rest."""
+        truth_error_by_fraction, float64 of shape (frames, 10) for vsd_errors and float64 for the rest
+        (NaN where empty)."""
         if self.frames and name not in self.frames[0]:
             raise DataError(self.path / "frames.csv", f"has no column '{name}'")
         values = [row[name] for row in self.frames]
@@ -130,6 +141,9 @@ class Run(FrameSequence):
             out = np.empty(len(values), dtype=object)
             out[:] = values
             return out
+        if name == VSD_COLUMN:
+            return np.array([[np.nan] * VSD_TAUS if v is None else v for v in values], dtype=np.float64
+                            ).reshape(len(values), VSD_TAUS)
         return np.array([np.nan if v is None else v for v in values], dtype=np.float64)
 
     @cached_property

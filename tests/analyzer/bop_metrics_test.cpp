@@ -140,7 +140,7 @@ TEST(BopMetrics, ResultsFileHoldsTheOkFramesInTheCamera) {
 TEST(BopMetrics, FrameResultsCarryTheErrorsThroughTheCsv) {
   FrameResult with, without;
   with.frame = 1;
-  with.bop_errors = PoseErrorMetrics{0.25, 3.5, 0.125, 0.0625};
+  with.bop_errors = PoseErrorMetrics{0.25, 3.5, 0.125, 0.0625, std::nullopt};
   without.frame = 2;
   without.status = "failed";
   const std::vector<FrameResult> back = ParseFrameResults(FormatFrameResults({with, without}), "test");

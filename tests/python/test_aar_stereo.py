@@ -217,6 +217,10 @@ class RunTest(unittest.TestCase):
         self.assertEqual(self.analysis.column("frame").dtype, np.int64)
         self.assertEqual(self.analysis.column("ms_total").dtype, np.float64)
         self.assertEqual(list(self.analysis.column("region")), [r["region"] for r in rows])
+        # The run had depth truth: ten e_VSD per frame, as the CSV's space-separated text says.
+        vsd = self.analysis.column("vsd_errors")
+        self.assertEqual(vsd.shape, (len(FRAMES), 10))
+        np.testing.assert_array_equal(vsd, [[float(v) for v in r["vsd_errors"].split()] for r in rows])
 
     def test_against_dataset_truth(self):
         dataset = aar_stereo.open_dataset(work("dataset"))
@@ -262,7 +266,7 @@ class RunTest(unittest.TestCase):
         with self.assertRaisesRegex(DataError, r"frames.csv: 1 rows, but run.json says 2 frames were analyzed"):
             aar_stereo.open_run(copied)
         (copied / "frames.csv").write_text("".join(lines).replace(",ok,", ",ok,,,", 1))
-        with self.assertRaisesRegex(DataError, r"frames.csv:2: 58 fields, the header has 56"):
+        with self.assertRaisesRegex(DataError, r"frames.csv:2: 59 fields, the header has 57"):
             aar_stereo.open_run(copied)
 
 

@@ -23,9 +23,11 @@
 // targets whose error is below it, AR_MSSD the mean recall over the
 // thresholds 0.05, 0.10, ..., 0.50 of the object's diameter, AR_MSPD over
 // 5, 10, ..., 50 px times r = image width / 640 (BOP's normalisation to a
-// 640 px wide image). BOP's AR is the mean of AR_VSD, AR_MSSD and AR_MSPD;
-// VSD needs a depth image rendered at the estimate and is not computed here,
-// so `ar_mssd_mspd` is the mean of the other two. ADD (ADD-S) recall is the
+// 640 px wide image). VSD (vsd.h) needs the test image's depth, so it exists
+// only for datasets with depth truth: AR_VSD is the mean recall over its 10
+// tolerances tau and 10 thresholds theta, and BOP's AR the mean of AR_VSD,
+// AR_MSSD and AR_MSPD; `ar_mssd_mspd`, the mean of the last two, exists for
+// every run. ADD (ADD-S) recall is the
 // fraction of targets with ADD (ADD-S) below 10 % of the diameter. The
 // diameter is the largest distance between two vertices (BOP's
 // models_info.json).
@@ -40,6 +42,7 @@
 
 #include "aar/analyzer/kdtree.h"
 #include "aar/analyzer/mesh.h"
+#include "aar/analyzer/vsd.h"
 #include "aar/rig.h"
 
 namespace aar {
@@ -62,10 +65,11 @@ class BopObject {
 
 /// The four errors of one estimate.
 struct PoseErrorMetrics {
-  double mssd_m = 0.0;   ///< maximum surface distance [m]
-  double mspd_px = 0.0;  ///< maximum projection distance [px]
-  double add_m = 0.0;    ///< mean distance of corresponding vertices [m]
-  double adds_m = 0.0;   ///< mean distance to the nearest vertex [m]
+  double mssd_m = 0.0;           ///< maximum surface distance [m]
+  double mspd_px = 0.0;          ///< maximum projection distance [px]
+  double add_m = 0.0;            ///< mean distance of corresponding vertices [m]
+  double adds_m = 0.0;           ///< mean distance to the nearest vertex [m]
+  std::optional<VsdErrors> vsd;  ///< e_VSD at each tau (vsd.h), where the frame has depth truth
 };
 
 /// The errors of `cam_from_model_estimate` against `cam_from_model_truth`,
@@ -97,6 +101,11 @@ struct BopScores {
   double ar_mssd_mspd = 0.0;  ///< (ar_mssd + ar_mspd) / 2 (BOP's AR without VSD)
   double add_recall = 0.0;    ///< fraction with ADD < 0.1 diameter
   double adds_recall = 0.0;   ///< fraction with ADD-S < 0.1 diameter
+  /// Where some target has e_VSD: the mean recall over kVsdTauFractions x
+  /// kVsdThresholds (a target without e_VSD is a miss), and BOP's AR, the
+  /// mean of ar_vsd, ar_mssd and ar_mspd.
+  std::optional<double> ar_vsd;
+  std::optional<double> ar;
 };
 
 /// Scores of the targets' errors (nullopt: no estimate, a miss at every

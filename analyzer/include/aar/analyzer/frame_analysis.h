@@ -197,9 +197,12 @@ class FrameAnalyzer {
   /// `manifest`'s files, a sidecar rendered with other settings than the
   /// manifest records (dataset.h, RenderSettings), too few sensed points or a failed registration give a result whose
   /// `status` says why. `history` holds the last good estimates (for kPreviousFrame).
-  /// With `dump`, also returns the images and clouds of the frame (frame_dump.h).
+  /// With `dump`, also returns the images and clouds of the frame (frame_dump.h);
+  /// with `depth_truth`, the left camera's depth truth where the analysis read
+  /// it (options.compare_with_truth on a dataset with depth), else nullopt.
   FrameResult Analyze(const std::filesystem::path& dataset, size_t index, const Manifest& manifest,
-                      const TrackHistory& history, FrameDump* dump = nullptr) const;
+                      const TrackHistory& history, FrameDump* dump = nullptr,
+                      std::optional<DepthTruth>* depth_truth = nullptr) const;
 
  private:
   StereoCalibration calibration_;
