@@ -10,6 +10,7 @@
 #include "aar/analyzer/bop_metrics.h"
 #include "aar/analyzer/mesh.h"
 #include "aar/analyzer/ply.h"
+#include "aar/analyzer/run_record.h"
 #include "aar/analyzer/stereo_truth.h"
 #include "aar/error.h"
 #include "aar/file_io.h"
@@ -30,129 +31,6 @@ nlohmann::json MatJson(const cv::Mat& m) {
     rows.push_back(row);
   }
   return rows;
-}
-
-nlohmann::json Finite(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json("inf"); }
-
-nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
-  const FrameAnalysisOptions& f = o.frame;
-  nlohmann::json registration = {{"algorithm", ToString(f.registration)},
-                                 {"seed", ToString(f.seed)},
-                                 {"track_region", f.track_region},
-                                 {"min_inlier_fraction", f.min_inlier_fraction}};
-  if (f.seed == IcpSeed::kPreviousFrame) registration["max_seed_attitude_deg"] = f.max_seed_attitude_deg;
-  if (f.registration == Registration::kPointToPoint) {
-    registration.update({{"max_iterations", f.icp.max_iterations},
-                         {"correspondence", ToString(f.icp.correspondence)},
-                         {"max_correspondence_distance_m", Finite(f.icp.max_correspondence_distance_m)}});
-  } else {
-    const PlaneIcpOptions& p = f.plane_icp;
-    registration.update({{"max_iterations", p.max_iterations},
-                         {"pairing", ToString(p.pairing)},
-                         {"residual", ToString(p.residual)},
-                         {"converged_chi2", p.converged_chi2},
-                         {"noise_bias_correction", p.noise_bias_correction},
-                         {"sensed_pairing_surface", f.pair_sensed_with_full_surface ? "full" : "model"},
-                         {"model_pull_scale_m", p.model_pull_scale_m},
-                         {"gate_sigmas", p.gate_sigmas},
-                         {"max_model_queries", p.max_model_queries},
-                         {"max_correspondence_distance_m", Finite(p.max_correspondence_distance_m)},
-                         {"robust_scale", p.robust_scale},
-                         {"disparity_noise_px", p.disparity_noise_px},
-                         {"lateral_noise_px", p.lateral_noise_px},
-                         {"surface_noise_m", p.surface_noise_m}});
-  }
-  const ReferenceModelOptions& r = o.reference.options;
-  nlohmann::json options = {
-      {"preset", ToString(o.preset)},
-      {"disparity",
-       {{"algorithm", f.disparity.algorithm == DisparityAlgorithm::kBlockMatching ? "bm" : "sgbm"},
-        {"num_disparities", f.disparity.num_disparities},
-        {"block_size", f.disparity.block_size},
-        {"uniqueness_ratio", f.disparity.uniqueness_ratio},
-        {"speckle_window_size", f.disparity.speckle_window_size},
-        {"speckle_range_px", f.disparity.speckle_range_px},
-        {"background_disparity_px", f.disparity.background_disparity_px},
-        {"halo_radius_px", f.remove_halo ? f.halo.radius_px : 0},
-        {"rounding_bias_px", f.remove_rounding_bias ? MatcherRoundingBiasPx(f.disparity.algorithm) : 0.0},
-        {"subpixel", f.refine_subpixel ? (f.subpixel.slanted ? "slanted" : "symmetric") : "none"},
-        {"subpixel_interpolation", f.subpixel.interpolation == SubpixelInterpolation::kLinear
-                                       ? nlohmann::json(ToString(f.subpixel.interpolation))
-                                       : nlohmann::json{{"kind", ToString(f.subpixel.interpolation)},
-                                                        {"prefilter_sigma_px", f.subpixel.prefilter_sigma_px}}},
-        {"window_bias", f.correct_window_bias ? nlohmann::json{{"min_model_fraction", f.window_bias.min_model_fraction},
-                                                               {"max_bias_px", f.window_bias.max_bias_px}}
-                                              : nlohmann::json(false)},
-        {"widen_search", f.widen_disparity_search}}},
-      {"reprojection",
-       {{"max_depth_m", f.reprojection.max_depth_m},
-        {"max_depth_over_median", f.reprojection.max_depth_over_median},
-        {"keep_one_in", f.reprojection.keep_one_in},
-        {"target_points", f.reprojection.target_points},
-        {"disparity_offset_px", f.reprojection.disparity_offset_px}}},
-      {"icp", registration},
-      {"filter", {{"model", "constant velocity, causal (pose_filter.h)"}, {"window_s", o.filter.window_s}}},
-      {"reference",
-       {{"model", o.reference.model},
-        {"num_points", r.num_points},
-        {"seed", r.seed},
-        {"shell",
-         {{"cameras", ToString(r.cameras)},
-          {"depth_tolerance_m", r.depth_tolerance_m},
-          {"plane_depth_test", r.plane_depth_test},
-          {"window_radius_px", r.neighbourhood_radius_px},
-          {"raster_scale", r.raster_scale},
-          {"min_incidence_deg", r.min_incidence_deg}}}}}};
-  // Absent without --mask-boom, so the runs made before it keep their run.json.
-  if (f.mask_boom)
-    options["boom_mask"] = {{"margin_px", f.boom_mask.margin_px}, {"source", "sidecar boom angles, rig"}};
-  // Diagnosis runs say so (absent otherwise).
-  if (f.register_truth_cloud) {
-    options["truth_cloud"] = {{"disparity_noise_px", f.truth_cloud_noise_px},
-                              {"noise_seed", "splitmix64 of the frame index, Box-Muller"}};
-  }
-  // Absent without --mask-propellers, likewise.
-  if (f.mask_propellers) {
-    options["propeller_mask"] = {{"radial_margin_m", f.propeller_mask.radial_margin_m},
-                                 {"axial_half_width_m", f.propeller_mask.axial_half_width_m},
-                                 {"first_axial_half_width_m", f.propeller_mask.first_axial_half_width_m},
-                                 {"passes", f.propeller_mask.passes},
-                                 {"source", "common/include/aar/propeller.h's discs under the registered pose"}};
-  }
-  return options;
-}
-
-std::string DescribeSelection(const FrameSelection& s) {
-  std::string text =
-      std::to_string(s.begin) + ":" + (s.end == static_cast<size_t>(-1) ? std::string() : std::to_string(s.end));
-  if (s.shard_count > 1) text += " shard " + std::to_string(s.shard_index) + "/" + std::to_string(s.shard_count);
-  return text;
-}
-
-// run.json's "bop": what the BOP scores and results file need (bop_metrics.h).
-nlohmann::json BopJson(const BopObject& object, const Camera& left) {
-  const Eigen::Matrix4d camera_from_tanker = left.tanker_from_camera.inverse().matrix();
-  nlohmann::json matrix = nlohmann::json::array();
-  for (int i = 0; i < 4; ++i)
-    for (int k = 0; k < 4; ++k) matrix.push_back(camera_from_tanker(i, k));
-  return {{"object", "the receiver mesh's distinct vertices"},
-          {"vertices", object.vertices().size()},
-          {"diameter_m", object.diameter_m()},
-          {"image_width_px", left.intrinsics.width_px},
-          {"camera_from_tanker", matrix}};
-}
-
-BopScale BopScaleOf(const nlohmann::json& run) {
-  const nlohmann::json& bop = run.at("bop");
-  return {bop.at("diameter_m").get<double>(), bop.at("image_width_px").get<int>()};
-}
-
-Eigen::Isometry3d CameraFromTanker(const nlohmann::json& run) {
-  const nlohmann::json& matrix = run.at("bop").at("camera_from_tanker");
-  Eigen::Matrix4d m;
-  for (int i = 0; i < 4; ++i)
-    for (int k = 0; k < 4; ++k) m(i, k) = matrix.at(static_cast<size_t>(4 * i + k)).get<double>();
-  return Eigen::Isometry3d(m);
 }
 
 void WriteSummary(const std::filesystem::path& out, const nlohmann::json& run, const ModelSummary& summary,
@@ -208,38 +86,6 @@ void CheckDatasetInputs(const std::filesystem::path& dataset, const Manifest& ma
       }
     }
   }
-}
-
-// A shard's run.json: present (the run finished) and with the keys merge compares.
-nlohmann::json ReadRunJson(const std::filesystem::path& dir) {
-  const std::filesystem::path path = dir / kRunJsonName;
-  if (!std::filesystem::is_regular_file(path)) {
-    throw Error(path.string() + ": missing (the run did not finish, or this is not a run folder)");
-  }
-  nlohmann::json run = ReadJsonFile(path);
-  for (const char* key :
-       {"schema", "dataset_manifest_sha256", "model", "calibration", "options", "frames_analyzed", "bop"}) {
-    if (!run.is_object() || !run.contains(key)) throw Error(path.string() + ": incomplete run.json (no '" + key + "')");
-  }
-  if (run.at("schema") != "aar-run/1") throw Error(path.string() + ": schema is not aar-run/1");
-  if (!run.at("model").is_string() || !run.at("dataset_manifest_sha256").is_string() ||
-      !run.at("frames_analyzed").is_number_unsigned()) {
-    throw Error(path.string() + ": malformed run.json (model, dataset_manifest_sha256 or frames_analyzed)");
-  }
-  const nlohmann::json& bop = run.at("bop");
-  const bool bop_ok = bop.is_object() && bop.contains("diameter_m") && bop.at("diameter_m").is_number() &&
-                      bop.at("diameter_m").get<double>() > 0.0 && bop.contains("image_width_px") &&
-                      bop.at("image_width_px").is_number_unsigned() && bop.at("image_width_px").get<int>() > 0 &&
-                      bop.contains("camera_from_tanker") && bop.at("camera_from_tanker").is_array() &&
-                      bop.at("camera_from_tanker").size() == 16 &&
-                      std::all_of(bop.at("camera_from_tanker").begin(), bop.at("camera_from_tanker").end(),
-                                  [](const nlohmann::json& v) { return v.is_number(); });
-  if (!bop_ok) {
-    throw Error(path.string() +
-                ": malformed run.json ('bop' needs diameter_m > 0, image_width_px > 0 and a 16-number "
-                "camera_from_tanker)");
-  }
-  return run;
 }
 
 }  // namespace
@@ -331,13 +177,23 @@ AnalysisRunOptions WithMasks(const AnalysisRunOptions& requested, const Manifest
   return options;
 }
 
-}  // namespace
+// What a run reads from the dataset before its first frame, checked: every
+// problem that makes the run impossible fails here, before any output.
+struct RunInputs {
+  Manifest manifest;
+  AnalysisRunOptions options;             // the request with the dataset's masks
+  std::vector<FlightSample> flight_path;  // truth for frames whose sidecar cannot be read
+  std::vector<size_t> selected;
+  StereoRig rig;
+};
 
-AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
-  // Everything that makes the run impossible fails here, before any output.
+RunInputs OpenRunInputs(const AnalysisRunOptions& requested) {
   requested.frame.Check();
-  const Manifest manifest = ReadManifest(requested.dataset);
-  const AnalysisRunOptions options = WithMasks(requested, manifest);
+  RunInputs in;
+  in.manifest = ReadManifest(requested.dataset);
+  const Manifest& manifest = in.manifest;
+  in.options = WithMasks(requested, manifest);
+  const AnalysisRunOptions& options = in.options;
   if (options.write_outputs) CheckOutputFolder(options.out);
   const std::string manifest_path = (options.dataset / kManifestName).string();
   if (manifest.frame_count == 0) throw Error(manifest_path + ": dataset has no frames");
@@ -351,19 +207,18 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   }
   options.selection.CheckWithin(manifest.frame_count, manifest_path);
   CheckDatasetInputs(options.dataset, manifest, !options.receiver_model);
-  // Truth for frames whose sidecar cannot be read comes from the flight path.
-  std::vector<FlightSample> flight_path;
   if (std::filesystem::is_regular_file(options.dataset / kFlightPathName)) {
-    flight_path = ReadFlightPath(options.dataset / kFlightPathName);
-    if (flight_path.size() != manifest.frame_count) {
+    in.flight_path = ReadFlightPath(options.dataset / kFlightPathName);
+    if (in.flight_path.size() != manifest.frame_count) {
       throw Error(manifest_path + ": frames.count " + std::to_string(manifest.frame_count) + " differs from the " +
-                  std::to_string(flight_path.size()) + " samples of " + (options.dataset / kFlightPathName).string());
+                  std::to_string(in.flight_path.size()) + " samples of " +
+                  (options.dataset / kFlightPathName).string());
     }
   }
-  const std::vector<size_t> selected = options.selection.Select(manifest.frame_count);
+  in.selected = options.selection.Select(manifest.frame_count);
   if (manifest.complete) {
     // A complete manifest lists every frame: one that is not there would go unchecked.
-    for (size_t index : selected) {
+    for (size_t index : in.selected) {
       const std::string sidecar =
           std::filesystem::relative(SidecarPath(options.dataset, "frame", index), options.dataset).generic_string();
       if (!manifest.files.contains(sidecar)) {
@@ -371,41 +226,84 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
       }
     }
   }
-  const StereoRig rig = LoadRig(options.dataset / kRigName);
-  if (options.frame.disparity.num_disparities >= rig.left.intrinsics.width_px) {
+  in.rig = LoadRig(options.dataset / kRigName);
+  if (options.frame.disparity.num_disparities >= in.rig.left.intrinsics.width_px) {
     throw Error("--num-disparities " + std::to_string(options.frame.disparity.num_disparities) +
-                ": must be below the image width (" + std::to_string(rig.left.intrinsics.width_px) + " px, " +
+                ": must be below the image width (" + std::to_string(in.rig.left.intrinsics.width_px) + " px, " +
                 (options.dataset / kRigName).string() + ")");
   }
-  std::optional<CalibrateOutput> calibrated;
+  for (size_t index : options.dump_frames) {
+    if (!std::binary_search(in.selected.begin(), in.selected.end(), index)) {
+      throw Error("--dump-frames " + std::to_string(index) + ": not among the frames analyzed (" +
+                  std::to_string(in.selected.size()) + " selected of " + std::to_string(manifest.frame_count) + ")");
+    }
+  }
+  return in;
+}
+
+// The run's calibration: the file given, or one from the dataset's boards.
+struct RunCalibration {
+  std::optional<CalibrateOutput> calibrated;  // when calibrated from calib/
   StereoCalibration calibration;
-  nlohmann::json calibration_source;
+  nlohmann::json source;  // run.json's "calibration"
+};
+
+RunCalibration LoadRunCalibration(const AnalysisRunOptions& options, const StereoRig& rig) {
+  RunCalibration c;
   if (options.calibration) {
-    calibration = ReadCalibration(*options.calibration);
-    calibration_source = {{"file", options.calibration->filename().string()},
-                          {"sha256", Sha256File(*options.calibration)}};
+    c.calibration = ReadCalibration(*options.calibration);
+    c.source = {{"file", options.calibration->filename().string()}, {"sha256", Sha256File(*options.calibration)}};
   } else {
-    calibrated = CalibrateDataset(options.dataset, options.calibration_options);
-    calibration = calibrated->result.calibration;
-    calibration_source = {{"calibrated_from", "calib/"}, {"used_pairs", calibrated->result.used_pairs}};
+    c.calibrated = CalibrateDataset(options.dataset, options.calibration_options);
+    c.calibration = c.calibrated->result.calibration;
+    c.source = {{"calibrated_from", "calib/"}, {"used_pairs", c.calibrated->result.used_pairs}};
   }
   const cv::Size rig_size(rig.left.intrinsics.width_px, rig.left.intrinsics.height_px);
-  if (calibration.image_size != rig_size) {
+  if (c.calibration.image_size != rig_size) {
     throw Error((options.calibration ? options.calibration->string() : std::string("calibration")) + ": image size " +
-                std::to_string(calibration.image_size.width) + "x" + std::to_string(calibration.image_size.height) +
+                std::to_string(c.calibration.image_size.width) + "x" + std::to_string(c.calibration.image_size.height) +
                 " differs from the dataset's " + std::to_string(rig_size.width) + "x" +
                 std::to_string(rig_size.height));
   }
-  const TriangleMesh mesh = LoadReceiverMesh(options.receiver_model.value_or(options.dataset / kReceiverModelName));
-  ReferenceModel full_surface;  // for FrameAnalysisOptions::pair_sensed_with_full_surface
-  const ReferenceModel reference = BuildReferenceModel(mesh, rig, options.reference, &full_surface);
-  if (options.progress) {
-    std::fprintf(stderr, "reference model '%s': %zu points\n", reference.name.c_str(),
-                 reference.points_in_receiver.size());
-  }
-  const BopObject bop_object(mesh);
+  return c;
+}
+
+// How the frame dumps draw the model over the left image.
+DumpProjection DumpProjectionOf(const StereoCalibration& calibration, const StereoRig& rig,
+                                const ReferenceModel& reference) {
+  DumpProjection projection;
+  cv::Mat m1;
+  calibration.M1.convertTo(m1, CV_64F);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) projection.left_camera_matrix(i, j) = m1.at<double>(i, j);
+  cv::Mat d1;
+  calibration.D1.convertTo(d1, CV_64F);
+  projection.left_distortion = {d1.at<double>(0, 0), d1.at<double>(0, 1), d1.at<double>(0, 2), d1.at<double>(0, 3),
+                                d1.at<double>(0, 4)};
+  projection.left_from_tanker = rig.left.tanker_from_camera.inverse();
+  projection.model_points_in_receiver = reference.points_in_receiver;
+  return projection;
+}
+
+// The BOP errors of a frame with an estimate (bop_metrics.h), in the left
+// camera, with VSD where the frame has depth truth and the rig is a pinhole
+// (BOP's camera).
+void ScoreFrame(FrameResult& frame, const std::optional<DepthTruth>& depth, const BopObject& object,
+                const TriangleMesh& mesh, const StereoRig& rig) {
+  if (!frame.has_estimate) return;
   const Eigen::Isometry3d left_from_tanker = rig.left.tanker_from_camera.inverse();
-  FrameAnalyzer analyzer(calibration, rig.left.tanker_from_camera, reference, options.frame, &full_surface);
+  const Eigen::Isometry3d estimate = left_from_tanker * IsometryFromPose(frame.estimate);
+  const Eigen::Isometry3d truth = left_from_tanker * IsometryFromPose(frame.truth);
+  frame.bop_errors = ComputePoseErrorMetrics(object, rig.left.intrinsics, estimate, truth);
+  if (depth && rig.left.intrinsics.distortion.IsZero()) {
+    frame.bop_errors->vsd =
+        ComputeVsd(mesh, rig.left.intrinsics, estimate, truth, depth->depth_m, object.diameter_m(), rig.near_m);
+  }
+}
+
+// The window-bias correction and the boom mask, where the options ask for them.
+void EnableCorrections(FrameAnalyzer& analyzer, const AnalysisRunOptions& options, const Manifest& manifest,
+                       const TriangleMesh& mesh) {
   if (options.frame.correct_window_bias) analyzer.EnableWindowBiasCorrection(mesh);
   if (options.frame.mask_boom) {
     // CheckDatasetInputs has checked the copies against the hashes the manifest records.
@@ -416,20 +314,32 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
     analyzer.EnableBoomMask(LoadReceiverMesh(options.dataset / kBoomModelName),
                             LoadReceiverMesh(options.dataset / kBoomTubeModelName));
   }
+}
 
-  for (size_t index : options.dump_frames) {
-    if (!std::binary_search(selected.begin(), selected.end(), index)) {
-      throw Error("--dump-frames " + std::to_string(index) + ": not among the frames analyzed (" +
-                  std::to_string(selected.size()) + " selected of " + std::to_string(manifest.frame_count) + ")");
-    }
+}  // namespace
+
+AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
+  const RunInputs in = OpenRunInputs(requested);
+  const AnalysisRunOptions& options = in.options;
+  const StereoRig& rig = in.rig;
+  const RunCalibration calibration = LoadRunCalibration(options, rig);
+  const TriangleMesh mesh = LoadReceiverMesh(options.receiver_model.value_or(options.dataset / kReceiverModelName));
+  ReferenceModel full_surface;  // for FrameAnalysisOptions::pair_sensed_with_full_surface
+  const ReferenceModel reference = BuildReferenceModel(mesh, rig, options.reference, &full_surface);
+  if (options.progress) {
+    std::fprintf(stderr, "reference model '%s': %zu points\n", reference.name.c_str(),
+                 reference.points_in_receiver.size());
   }
+  const BopObject bop_object(mesh);
+  FrameAnalyzer analyzer(calibration.calibration, rig.left.tanker_from_camera, reference, options.frame, &full_surface);
+  EnableCorrections(analyzer, options, in.manifest, mesh);
   const nlohmann::json run = {{"schema", "aar-run/1"},
                               {"dataset_manifest_sha256", Sha256File(options.dataset / kManifestName)},
                               {"model", reference.name},
                               {"reference_points", reference.points_in_receiver.size()},
-                              {"calibration", calibration_source},
+                              {"calibration", calibration.source},
                               {"frames", DescribeSelection(options.selection)},
-                              {"frames_analyzed", selected.size()},
+                              {"frames_analyzed", in.selected.size()},
                               {"options", OptionsJson(options)},
                               {"bop", BopJson(bop_object, rig.left)}};
   // Written into a staging folder and put in place at the end (output_folder.h).
@@ -438,10 +348,10 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   if (options.write_outputs) {
     staged.emplace(options.out, "run");
     out = staged->path();
-    if (calibrated) {
-      WriteCalibrationOutputs(out, *calibrated);
+    if (calibration.calibrated) {
+      WriteCalibrationOutputs(out, *calibration.calibrated);
     } else {
-      WriteCalibration(out / kCalibrationYamlName, calibration);
+      WriteCalibration(out / kCalibrationYamlName, calibration.calibration);
     }
     WritePly(out / ("reference_" + reference.name + ".ply"), reference.points_in_receiver,
              {"aar-analyze reference model '" + reference.name + "', receiver frame, metres"});
@@ -449,50 +359,31 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
 
   AnalysisRunResult result;
   result.reference_points = reference.points_in_receiver.size();
-  Progress progress("analyze " + reference.name, selected.size());
+  Progress progress("analyze " + reference.name, in.selected.size());
   TrackHistory history;
   const std::set<size_t> dump_frames(options.dump_frames.begin(), options.dump_frames.end());
-  DumpProjection projection;
-  if (!dump_frames.empty()) {
-    cv::Mat m1;
-    calibration.M1.convertTo(m1, CV_64F);
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) projection.left_camera_matrix(i, j) = m1.at<double>(i, j);
-    cv::Mat d1;
-    calibration.D1.convertTo(d1, CV_64F);
-    projection.left_distortion = {d1.at<double>(0, 0), d1.at<double>(0, 1), d1.at<double>(0, 2), d1.at<double>(0, 3),
-                                  d1.at<double>(0, 4)};
-    projection.left_from_tanker = rig.left.tanker_from_camera.inverse();
-    projection.model_points_in_receiver = reference.points_in_receiver;
-  }
-  for (size_t index : selected) {
+  const DumpProjection projection = DumpProjectionOf(calibration.calibration, rig, reference);
+  for (size_t index : in.selected) {
     FrameDump dump;
     const bool dumped = options.write_outputs && dump_frames.contains(index);
     std::optional<DepthTruth> depth;  // VSD's test depth, where the dataset has it
-    FrameResult frame = analyzer.Analyze(options.dataset, index, manifest, history, dumped ? &dump : nullptr, &depth);
+    FrameResult frame =
+        analyzer.Analyze(options.dataset, index, in.manifest, history, dumped ? &dump : nullptr, &depth);
     if (dumped) WriteFrameDump(out / kFrameDumpDir, index, dump, projection);
     if (frame.ok()) {
       history.before_last = history.last;
       history.last = std::make_pair(frame.time_s, frame.estimate);
     } else {
-      if (frame.range_m == 0.0 && index < flight_path.size()) {
-        frame.time_s = flight_path[index].time_s;
-        frame.truth = flight_path[index].tanker_from_receiver;
+      if (frame.range_m == 0.0 && index < in.flight_path.size()) {
+        frame.time_s = in.flight_path[index].time_s;
+        frame.truth = in.flight_path[index].tanker_from_receiver;
         frame.range_m = (frame.truth.translation_m - rig.left.tanker_from_camera.translation()).norm();
         frame.region = RegionForRange(frame.range_m);
       }
       history = TrackHistory{};
       if (options.progress) std::fprintf(stderr, "frame %zu not measured: %s\n", index, frame.status.c_str());
     }
-    if (frame.has_estimate) {
-      const Eigen::Isometry3d estimate = left_from_tanker * IsometryFromPose(frame.estimate);
-      const Eigen::Isometry3d truth = left_from_tanker * IsometryFromPose(frame.truth);
-      frame.bop_errors = ComputePoseErrorMetrics(bop_object, rig.left.intrinsics, estimate, truth);
-      if (depth && rig.left.intrinsics.distortion.IsZero()) {  // BOP's camera is a pinhole
-        frame.bop_errors->vsd =
-            ComputeVsd(mesh, rig.left.intrinsics, estimate, truth, depth->depth_m, bop_object.diameter_m(), rig.near_m);
-      }
-    }
+    ScoreFrame(frame, depth, bop_object, mesh, rig);
     result.frames.push_back(std::move(frame));
     if (options.progress) progress.Advance();
   }
