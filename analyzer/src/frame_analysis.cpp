@@ -50,93 +50,24 @@ cv::Mat ReadImage(const std::filesystem::path& dataset, const FileRef& ref, cons
   return ReadListedImage(dataset, manifest, ref, flags, "image");
 }
 
+// The receiver's pose at `time_s` by constant velocity from the last two
+// estimates (the last one alone when there is one); nullopt without one.
+std::optional<Pose> PredictedPose(const TrackHistory& history, double time_s) {
+  if (!history.last) return std::nullopt;
+  Pose predicted = history.last->second;
+  if (history.before_last && history.last->first > history.before_last->first) {
+    const double k = (time_s - history.last->first) / (history.last->first - history.before_last->first);
+    const Pose& a = history.before_last->second;
+    const Pose& b = history.last->second;
+    predicted.translation_m = b.translation_m + k * (b.translation_m - a.translation_m);
+    predicted.roll_deg = b.roll_deg + k * WrapDegrees(b.roll_deg - a.roll_deg);
+    predicted.pitch_deg = b.pitch_deg + k * WrapDegrees(b.pitch_deg - a.pitch_deg);
+    predicted.yaw_deg = b.yaw_deg + k * WrapDegrees(b.yaw_deg - a.yaw_deg);
+  }
+  return predicted;
+}
+
 }  // namespace
-
-std::string ToString(IcpSeed seed) { return seed == IcpSeed::kCentroid ? "centroid" : "previous"; }
-
-IcpSeed ParseIcpSeed(const std::string& text) {
-  if (text == "centroid") return IcpSeed::kCentroid;
-  if (text == "previous") return IcpSeed::kPreviousFrame;
-  throw Error("--seed '" + text + "': expected centroid or previous");
-}
-
-std::optional<Pose> SeedFromHistory(const TrackHistory& history, const FrameAnalysisOptions& options) {
-  if (options.seed != IcpSeed::kPreviousFrame || !history.last) return std::nullopt;
-  const Pose& last = history.last->second;
-  const double limit = options.max_seed_attitude_deg;
-  if (!(std::abs(last.roll_deg) <= limit && std::abs(last.pitch_deg) <= limit && std::abs(last.yaw_deg) <= limit)) {
-    return std::nullopt;
-  }
-  return last;
-}
-
-std::string ToString(Registration registration) {
-  return registration == Registration::kPointToPoint ? "point_to_point" : "point_to_plane";
-}
-
-Registration ParseRegistration(const std::string& text) {
-  if (text == "point_to_point") return Registration::kPointToPoint;
-  if (text == "point_to_plane") return Registration::kPointToPlane;
-  throw Error("--registration '" + text + "': expected point_to_point or point_to_plane");
-}
-
-std::string ToString(Preset preset) { return preset == Preset::kThesis ? "thesis" : "default"; }
-
-Preset ParsePreset(const std::string& text) {
-  if (text == "default") return Preset::kDefault;
-  if (text == "thesis") return Preset::kThesis;
-  throw Error("--preset '" + text + "': expected default or thesis");
-}
-
-FrameAnalysisOptions FrameAnalysisOptions::ForPreset(Preset preset) {
-  FrameAnalysisOptions o;
-  o.halo.radius_px = HaloRadiusPx(o.disparity);
-  if (preset == Preset::kThesis) {
-    o.remove_halo = false;
-    o.remove_rounding_bias = false;
-    o.refine_subpixel = false;
-    o.reprojection.target_points = 0;
-    o.reprojection.keep_one_in = 8;
-    o.disparity.background_disparity_px = -1.0;  // the thesis keeps every disparity ...
-    o.reprojection.max_depth_over_median = 0.0;  // ... and every point up to 750 m
-    o.registration = Registration::kPointToPoint;
-    o.icp.correspondence = IcpCorrespondence::kModelToSensed;
-    o.icp.max_iterations = 30;
-    o.seed = IcpSeed::kCentroid;
-    o.widen_disparity_search = false;
-  }
-  return o;
-}
-
-void FrameAnalysisOptions::Check() const {
-  disparity.Check();
-  halo.Check();
-  subpixel.Check();
-  icp.Check();
-  plane_icp.Check();
-  boom_mask.Check();
-  propeller_mask.Check();
-  window_bias.Check();
-  if (!(truth_cloud_noise_px >= 0.0 && truth_cloud_noise_px <= 10.0))
-    throw Error("--truth-cloud-noise must be in [0, 10] px");
-  if (truth_cloud_noise_px > 0.0 && !register_truth_cloud) throw Error("--truth-cloud-noise needs --truth-cloud");
-  if (reprojection.keep_one_in == 0) throw Error("reprojection keep_one_in must be at least 1");
-  if (!(max_icp_rmse_m > 0)) throw Error("max_icp_rmse_m must be positive");
-  if (!(min_inlier_fraction >= 0.0 && min_inlier_fraction <= 1.0)) {
-    throw Error("min_inlier_fraction must be in [0, 1]");
-  }
-  if (!(disparity_noise_px > 0.0 && disparity_noise_px <= 100.0)) {
-    throw Error("--disparity-noise " + FormatFixed(disparity_noise_px, 3) + ": expected (0, 100] px");
-  }
-  if (!(std::abs(reprojection.disparity_offset_px) < disparity.num_disparities)) {
-    throw Error("--disparity-offset " + FormatFixed(reprojection.disparity_offset_px, 3) +
-                ": expected a finite offset smaller than --num-disparities (" +
-                std::to_string(disparity.num_disparities) + ")");
-  }
-  if (!(max_seed_attitude_deg >= 0.0 && max_seed_attitude_deg <= 180.0)) {
-    throw Error("max_seed_attitude_deg must be in [0, 180]");
-  }
-}
 
 FrameAnalyzer::FrameAnalyzer(const StereoCalibration& calibration, const Eigen::Isometry3d& tanker_from_left,
                              const ReferenceModel& model, const FrameAnalysisOptions& options,
@@ -258,10 +189,43 @@ double FrameAnalyzer::ModelMaxDisparityPx(const Eigen::Isometry3d& tanker_from_r
   return min_z > 0.0 ? focal_times_baseline_px_m_ / min_z : std::numeric_limits<double>::infinity();
 }
 
-FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi,
-                                                 const std::optional<Pose>& seed,
-                                                 const std::optional<DepthTruth>& truth, const std::string& left_path,
-                                                 const BoomMasks* boom, FrameResult& r, FrameDump* dump) const {
+DisparityMap FrameAnalyzer::Match(const cv::Mat& rect_left, const cv::Mat& rect_right, const cv::Rect& region,
+                                  const DisparityOptions& disparity_options, const BoomMasks* boom, FrameResult& r,
+                                  FrameDump* dump) const {
+  const auto start = std::chrono::steady_clock::now();
+  DisparityMap disparity = ComputeDisparity(rect_left, rect_right, disparity_options);
+  if (options_.remove_halo) RemoveHalo(disparity.disparity16, disparity.invalid_value16, options_.halo);
+  if (boom != nullptr)
+    BoomMasker::RemoveDisparities(disparity.disparity16, disparity.invalid_value16, region.tl(), *boom);
+  r.times.disparity_ms += MillisecondsSince(start);
+  if (dump != nullptr) {
+    dump->disparity16 = disparity.disparity16;
+    dump->region = region;
+    dump->invalid_value16 = disparity.invalid_value16;
+    dump->sensed_in_tanker.clear();
+  }
+  return disparity;
+}
+
+void FrameAnalyzer::CompareCloudWithTruth(const DepthTruth& truth, SensedCloud& cloud, FrameResult& r) const {
+  std::vector<Eigen::Vector3d> ideal;
+  r.stereo_truth =
+      CompareWithTruth(cloud.pixels, truth, calibration_, {}, options_.register_truth_cloud ? &ideal : nullptr);
+  if (!options_.register_truth_cloud) return;
+  cloud.points_in_tanker.clear();
+  RandomStream noise(0x9E3779B97F4A7C15ull * (r.frame + 1));
+  for (Eigen::Vector3d p : ideal) {
+    if (options_.truth_cloud_noise_px > 0.0) {
+      const double d = focal_times_baseline_px_m_ / p.z();
+      p *= d / (d + options_.truth_cloud_noise_px * noise.Normal());
+    }
+    cloud.points_in_tanker.push_back(tanker_from_rect_left_ * p);
+  }
+}
+
+FrameAnalyzer::Registered FrameAnalyzer::Measure(const FrameInputs& in, const cv::Rect& roi,
+                                                 const std::optional<Pose>& seed, FrameResult& r,
+                                                 FrameDump* dump) const {
   // The region computed: the receiver's predicted box and, to its left, the
   // columns its matches can come from (the disparity search and a block).
   DisparityOptions disparity_options = options_.disparity;
@@ -279,25 +243,14 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
     const cv::Rect region = compute_region(disparity_options);
     auto start = std::chrono::steady_clock::now();
     cv::Mat rect_left, rect_right;
-    rectifier_.Rectify(left, right, rect_left, rect_right, region);
+    rectifier_.Rectify(in.left, in.right, rect_left, rect_right, region);
     r.times.rectify_ms += MillisecondsSince(start);
     const std::unique_ptr<SubpixelRefiner> refiner =
         options_.refine_subpixel
             ? std::make_unique<SubpixelRefiner>(rect_left, rect_right, options_.subpixel, region.tl())
             : nullptr;
 
-    start = std::chrono::steady_clock::now();
-    DisparityMap disparity = ComputeDisparity(rect_left, rect_right, disparity_options);
-    if (options_.remove_halo) RemoveHalo(disparity.disparity16, disparity.invalid_value16, options_.halo);
-    if (boom != nullptr)
-      BoomMasker::RemoveDisparities(disparity.disparity16, disparity.invalid_value16, region.tl(), *boom);
-    r.times.disparity_ms += MillisecondsSince(start);
-    if (dump != nullptr) {
-      dump->disparity16 = disparity.disparity16;
-      dump->region = region;
-      dump->invalid_value16 = disparity.invalid_value16;
-      dump->sensed_in_tanker.clear();
-    }
+    const DisparityMap disparity = Match(rect_left, rect_right, region, disparity_options, in.boom, r, dump);
 
     start = std::chrono::steady_clock::now();
     ReprojectionOptions reprojection = options_.reprojection;
@@ -308,25 +261,10 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
     r.sensed_points = cloud.points_in_tanker.size();
     r.times.reproject_ms += MillisecondsSince(start);
     if (cloud.points_in_tanker.size() < options_.min_sensed_points) {
-      throw Error(left_path + ": only " + std::to_string(cloud.points_in_tanker.size()) +
+      throw Error(in.left_path + ": only " + std::to_string(cloud.points_in_tanker.size()) +
                   " sensed points (receiver out of view?)");
     }
-    if (truth) {
-      std::vector<Eigen::Vector3d> ideal;
-      r.stereo_truth =
-          CompareWithTruth(cloud.pixels, *truth, calibration_, {}, options_.register_truth_cloud ? &ideal : nullptr);
-      if (options_.register_truth_cloud) {
-        cloud.points_in_tanker.clear();
-        RandomStream noise(0x9E3779B97F4A7C15ull * (r.frame + 1));
-        for (Eigen::Vector3d p : ideal) {
-          if (options_.truth_cloud_noise_px > 0.0) {
-            const double d = focal_times_baseline_px_m_ / p.z();
-            p *= d / (d + options_.truth_cloud_noise_px * noise.Normal());
-          }
-          cloud.points_in_tanker.push_back(tanker_from_rect_left_ * p);
-        }
-      }
-    }
+    if (in.truth) CompareCloudWithTruth(*in.truth, cloud, r);
 
     if (dump != nullptr) dump->sensed_in_tanker = cloud.points_in_tanker;
 
@@ -341,8 +279,8 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
       dump->pixels = cloud.pixels;
       dump->true_disparity_px.clear();
     }
-    if (truth && (corrected || dump != nullptr)) {
-      r.stereo_truth = CompareWithTruth(cloud.pixels, *truth, calibration_, {}, nullptr,
+    if (in.truth && (corrected || dump != nullptr)) {
+      r.stereo_truth = CompareWithTruth(cloud.pixels, *in.truth, calibration_, {}, nullptr,
                                         dump != nullptr ? &dump->true_disparity_px : nullptr);
     }
     r.times.icp_ms += MillisecondsSince(start);
@@ -356,7 +294,7 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const cv::Mat& left, const cv::
       r.estimate = PoseFromIsometry(icp.tanker_from_receiver);
       r.error = PoseError(r.estimate, r.truth);
       r.has_estimate = true;
-      throw Error(left_path + ": out of stereo range (the receiver needs " + FormatFixed(needed_px, 0) +
+      throw Error(in.left_path + ": out of stereo range (the receiver needs " + FormatFixed(needed_px, 0) +
                   " px of disparity, the search covers " + std::to_string(searched_max) + ")");
     }
     const double wanted_px = needed_px * 1.1 + 2.0;  // 10 % and 2 px of margin for the first estimate's error
@@ -388,6 +326,66 @@ cv::Rect FrameAnalyzer::PredictedRegion(const Eigen::Isometry3d& tanker_from_rec
   return box & image;
 }
 
+std::string FrameAnalyzer::RegistrationFailure(const Registered& reg, size_t sensed_points) const {
+  const double range_m = (reg.tanker_from_receiver.translation() - tanker_from_left_.translation()).norm();
+  const double sigma_z = range_m * range_m * options_.disparity_noise_px / focal_times_baseline_px_m_;
+  const double limit_m = options_.max_icp_rmse_m + 3.0 * sigma_z;
+  if (!reg.tanker_from_receiver.matrix().allFinite() || !(reg.rmse_m <= limit_m)) {
+    return "ICP did not converge (residual " + FormatFixed(reg.rmse_m, 3) + " m, limit " + FormatFixed(limit_m, 3) +
+           " m at " + FormatFixed(range_m, 1) + " m)";
+  }
+  if (static_cast<double>(reg.inliers) < options_.min_inlier_fraction * static_cast<double>(sensed_points)) {
+    return "ICP lost the receiver (" + std::to_string(reg.inliers) + " of " + std::to_string(sensed_points) +
+           " sensed points paired)";
+  }
+  return "";
+}
+
+FrameAnalyzer::Registered FrameAnalyzer::MeasureFrame(const FrameInputs& in, const std::optional<Pose>& predicted,
+                                                      const std::optional<Pose>& seed, FrameResult& r, FrameDump* dump,
+                                                      std::string& why) const {
+  Registered icp{};
+  try {
+    bool measured = false;
+    StageTimes lost_times;  // spent on a region the receiver was not (all) in
+    if (options_.track_region && predicted) {
+      const cv::Rect roi = PredictedRegion(IsometryFromPose(*predicted));
+      if (roi.area() > 0) {
+        FrameResult attempt = r;
+        try {
+          icp = Measure(in, roi, seed, attempt, dump);
+          // Lost when the receiver reaches the region's border: measure the whole image.
+          const cv::Rect estimated = PredictedRegion(icp.tanker_from_receiver, 0.0, 0);
+          measured = estimated.area() > 0 && (estimated & roi) == estimated;
+        } catch (const std::exception&) {  // aar::Error, or OpenCV's on a region too small to match
+          measured = false;
+        }
+        if (measured) {
+          r = attempt;
+        } else {
+          lost_times = attempt.times;
+        }
+      }
+    }
+    if (!measured) {
+      icp = Measure(in, cv::Rect(), seed, r, dump);
+      AddAttemptTimes(r.times, lost_times);
+    }
+    why = RegistrationFailure(icp, r.sensed_points);
+  } catch (const std::exception& e) {
+    if (!seed) throw;
+    why = e.what();
+  }
+  if (!why.empty() && seed) {
+    // Tracking from the last estimate went wrong: the centroid, the whole image.
+    const StageTimes spent = r.times;
+    icp = Measure(in, cv::Rect(), std::nullopt, r, dump);
+    AddAttemptTimes(r.times, spent);
+    why = RegistrationFailure(icp, r.sensed_points);
+  }
+  return icp;
+}
+
 FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t index, const Manifest& manifest,
                                    const TrackHistory& history, FrameDump* dump,
                                    std::optional<DepthTruth>* depth_truth) const {
@@ -402,39 +400,24 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
     r.truth = sidecar.tanker_from_target;
     r.range_m = sidecar.range_m;
     r.region = RegionForRange(sidecar.range_m);
-    const cv::Mat left = ReadImage(dataset, sidecar.files.at("left"), manifest);
-    const cv::Mat right = ReadImage(dataset, sidecar.files.at("right"), manifest);
-    if (left.size() != rectifier_.image_size() || right.size() != rectifier_.image_size()) {
-      throw Error((dataset / sidecar.files.at("left").path).string() + ": image size differs from the calibration's");
+    FrameInputs in;
+    in.left = ReadImage(dataset, sidecar.files.at("left"), manifest);
+    in.right = ReadImage(dataset, sidecar.files.at("right"), manifest);
+    in.left_path = (dataset / sidecar.files.at("left").path).string();
+    if (in.left.size() != rectifier_.image_size() || in.right.size() != rectifier_.image_size()) {
+      throw Error(in.left_path + ": image size differs from the calibration's");
     }
     r.times.load_ms = MillisecondsSince(start);
     if (dump != nullptr) {
-      dump->left_bgr = left;
+      dump->left_bgr = in.left;
       dump->tanker_from_receiver_truth = IsometryFromPose(r.truth);
     }
-
-    const std::string left_path = (dataset / sidecar.files.at("left").path).string();
-    std::optional<DepthTruth> truth;
     if (options_.compare_with_truth && sidecar.files.count("left_depth") && sidecar.files.count("left_mask")) {
-      truth =
+      in.truth =
           ReadDepthTruth(dataset / sidecar.files.at("left_depth").path, dataset / sidecar.files.at("left_mask").path);
-      if (depth_truth != nullptr) *depth_truth = truth;
+      if (depth_truth != nullptr) *depth_truth = in.truth;
     } else if (options_.register_truth_cloud) {
-      throw Error(left_path + ": no depth truth for the ideal cloud (render with --depth)");
-    }
-    // The prediction: constant velocity from the last two estimates.
-    std::optional<Pose> predicted;
-    if (history.last) {
-      predicted = history.last->second;
-      if (history.before_last && history.last->first > history.before_last->first) {
-        const double k = (r.time_s - history.last->first) / (history.last->first - history.before_last->first);
-        const Pose& a = history.before_last->second;
-        const Pose& b = history.last->second;
-        predicted->translation_m = b.translation_m + k * (b.translation_m - a.translation_m);
-        predicted->roll_deg = b.roll_deg + k * WrapDegrees(b.roll_deg - a.roll_deg);
-        predicted->pitch_deg = b.pitch_deg + k * WrapDegrees(b.pitch_deg - a.pitch_deg);
-        predicted->yaw_deg = b.yaw_deg + k * WrapDegrees(b.yaw_deg - a.yaw_deg);
-      }
+      throw Error(in.left_path + ": no depth truth for the ideal cloud (render with --depth)");
     }
     // The boom: what the tanker's telemetry says it covers (--mask-boom), and
     // how much of the receiver the truth says it hides (reported, not used).
@@ -443,67 +426,13 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
     if (sidecar.boom && sidecar.files.count("left_mask") && sidecar.files.count("left_silhouette")) {
       // The id mask was read with the depth truth when the run compares with it.
       r.receiver_occluded_fraction = ReceiverOccludedFraction(
-          truth ? truth->ids : ReadImage(dataset, sidecar.files.at("left_mask"), manifest, cv::IMREAD_GRAYSCALE),
+          in.truth ? in.truth->ids : ReadImage(dataset, sidecar.files.at("left_mask"), manifest, cv::IMREAD_GRAYSCALE),
           ReadImage(dataset, sidecar.files.at("left_silhouette"), manifest, cv::IMREAD_GRAYSCALE));
     }
-    const BoomMasks* boom = boom_masks ? &*boom_masks : nullptr;
-    const std::optional<Pose> seed = SeedFromHistory(history, options_);
-    // Why a registration failed: its residual beyond what stereo noise at
-    // its range explains, or too few pairs (min_inlier_fraction); empty when it did not.
-    const auto failure = [&](const Registered& reg, size_t sensed_points) -> std::string {
-      const double range_m = (reg.tanker_from_receiver.translation() - tanker_from_left_.translation()).norm();
-      const double sigma_z = range_m * range_m * options_.disparity_noise_px / focal_times_baseline_px_m_;
-      const double limit_m = options_.max_icp_rmse_m + 3.0 * sigma_z;
-      if (!reg.tanker_from_receiver.matrix().allFinite() || !(reg.rmse_m <= limit_m)) {
-        return "ICP did not converge (residual " + FormatFixed(reg.rmse_m, 3) + " m, limit " + FormatFixed(limit_m, 3) +
-               " m at " + FormatFixed(range_m, 1) + " m)";
-      }
-      if (static_cast<double>(reg.inliers) < options_.min_inlier_fraction * static_cast<double>(sensed_points)) {
-        return "ICP lost the receiver (" + std::to_string(reg.inliers) + " of " + std::to_string(sensed_points) +
-               " sensed points paired)";
-      }
-      return "";
-    };
-    Registered icp{};
+    in.boom = boom_masks ? &*boom_masks : nullptr;
     std::string why;
-    try {
-      bool measured = false;
-      StageTimes lost_times;  // spent on a region the receiver was not (all) in
-      if (options_.track_region && predicted) {
-        const cv::Rect roi = PredictedRegion(IsometryFromPose(*predicted));
-        if (roi.area() > 0) {
-          FrameResult attempt = r;
-          try {
-            icp = Measure(left, right, roi, seed, truth, left_path, boom, attempt, dump);
-            // Lost when the receiver reaches the region's border: measure the whole image.
-            const cv::Rect estimated = PredictedRegion(icp.tanker_from_receiver, 0.0, 0);
-            measured = estimated.area() > 0 && (estimated & roi) == estimated;
-          } catch (const std::exception&) {  // aar::Error, or OpenCV's on a region too small to match
-            measured = false;
-          }
-          if (measured) {
-            r = attempt;
-          } else {
-            lost_times = attempt.times;
-          }
-        }
-      }
-      if (!measured) {
-        icp = Measure(left, right, cv::Rect(), seed, truth, left_path, boom, r, dump);
-        AddAttemptTimes(r.times, lost_times);
-      }
-      why = failure(icp, r.sensed_points);
-    } catch (const std::exception& e) {
-      if (!seed) throw;
-      why = e.what();
-    }
-    if (!why.empty() && seed) {
-      // Tracking from the last estimate went wrong: the centroid, the whole image.
-      const StageTimes spent = r.times;
-      icp = Measure(left, right, cv::Rect(), std::nullopt, truth, left_path, boom, r, dump);
-      AddAttemptTimes(r.times, spent);
-      why = failure(icp, r.sensed_points);
-    }
+    const Registered icp =
+        MeasureFrame(in, PredictedPose(history, r.time_s), SeedFromHistory(history, options_), r, dump, why);
     r.icp_iterations = icp.iterations;
     r.icp_converged = icp.converged;
     r.icp_rmse_m = icp.rmse_m;
@@ -513,7 +442,7 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
       r.error = PoseError(r.estimate, r.truth);
       r.has_estimate = true;
     }
-    if (!why.empty()) throw Error(left_path + ": " + why);
+    if (!why.empty()) throw Error(in.left_path + ": " + why);
     r.status = "ok";
   } catch (const std::exception& e) {  // aar::Error, json or OpenCV errors: the frame is not measured
     r.status = e.what();

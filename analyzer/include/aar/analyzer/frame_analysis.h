@@ -234,10 +234,33 @@ class FrameAnalyzer {
   // new pose passes the jump test. Returns whether it did.
   bool CorrectWindowBias(const cv::Mat& rect_left, const cv::Mat& rect_right, const cv::Rect& region,
                          SensedCloud& cloud, Registered& icp) const;
+  // One frame's images and what the analysis reads beside them.
+  struct FrameInputs {
+    cv::Mat left, right;
+    std::optional<DepthTruth> truth;  // options.compare_with_truth on a dataset with depth
+    std::string left_path;            // for messages
+    const BoomMasks* boom = nullptr;  // the boom's pixels to remove (options.mask_boom)
+  };
+  // Disparities of the rectified `region` with `disparity_options`, the halo
+  // and the boom's pixels removed (stage time and dump filled in).
+  DisparityMap Match(const cv::Mat& rect_left, const cv::Mat& rect_right, const cv::Rect& region,
+                     const DisparityOptions& disparity_options, const BoomMasks* boom, FrameResult& r,
+                     FrameDump* dump) const;
+  // The cloud against depth truth (r.stereo_truth); with
+  // options.register_truth_cloud the cloud becomes the ideal one.
+  void CompareCloudWithTruth(const DepthTruth& truth, SensedCloud& cloud, FrameResult& r) const;
   // Rectify, match, re-project and register in `roi` (empty: the whole image).
-  Registered Measure(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, const std::optional<Pose>& seed,
-                     const std::optional<DepthTruth>& truth, const std::string& left_path, const BoomMasks* boom,
-                     FrameResult& r, FrameDump* dump) const;
+  Registered Measure(const FrameInputs& in, const cv::Rect& roi, const std::optional<Pose>& seed, FrameResult& r,
+                     FrameDump* dump) const;
+  // Why a registration failed: its residual beyond what stereo noise at its
+  // range explains, or too few pairs (min_inlier_fraction); empty when it did not.
+  std::string RegistrationFailure(const Registered& registered, size_t sensed_points) const;
+  // Measures in the region `predicted` puts the receiver in (tracking), or
+  // the whole image when there is none or the receiver reaches its border,
+  // from `seed`; and again from the centroid over the whole image when a
+  // seeded registration fails. `why` says why the last one failed (empty: it did not).
+  Registered MeasureFrame(const FrameInputs& in, const std::optional<Pose>& predicted, const std::optional<Pose>& seed,
+                          FrameResult& r, FrameDump* dump, std::string& why) const;
   // The model's box in the rectified left image at a pose, grown by margins.
   cv::Rect PredictedRegion(const Eigen::Isometry3d& tanker_from_receiver, double margin_fraction, int margin_px) const;
   cv::Rect PredictedRegion(const Eigen::Isometry3d& tanker_from_receiver) const {
