@@ -11,162 +11,17 @@
 #include "aar/analyzer/sheet_grid.h"
 #include "aar/error.h"
 #include "aar/text.h"
+#include "plane_icp_terms.h"
 
 namespace aar {
 namespace {
 
-// Per sensed point: the noise model's variances along and across its ray.
-struct SensedNoise {
-  Eigen::Vector3d ray;      // unit viewing ray in the tanker frame
-  double ray_variance;      // sigma_ray^2 [m^2]
-  double lateral_variance;  // sigma_lat^2 [m^2]
-  double gate_squared;      // pairs farther than sqrt(this) are ignored [m^2]
-  double disparity;         // the disparity the point was re-projected from, f b / depth [px]
-};
-
-// The noise model at `point` (tanker frame), seen from the left camera.
-SensedNoise NoiseAt(const Eigen::Vector3d& point, const StereoNoiseGeometry& g, const PlaneIcpOptions& o) {
-  const Eigen::Vector3d offset = point - g.camera_centre_in_tanker;
-  const double distance = offset.norm();
-  const double depth = std::max(offset.dot(g.optical_axis_in_tanker), 1e-3);
-  const double sigma_ray = depth * distance * o.disparity_noise_px / g.focal_times_baseline_px_m;
-  const double sigma_lat = depth * o.lateral_noise_px / g.focal_px;
-  const double gate = std::max(o.max_correspondence_distance_m, o.gate_sigmas * sigma_ray);
-  return {offset / distance, sigma_ray * sigma_ray, sigma_lat * sigma_lat, gate * gate,
-          g.focal_times_baseline_px_m / depth};
-}
-
-std::vector<SensedNoise> NoiseOf(const std::vector<Eigen::Vector3d>& sensed, const StereoNoiseGeometry& g,
-                                 const PlaneIcpOptions& o) {
-  std::vector<SensedNoise> noise(sensed.size());
-  for (size_t i = 0; i < sensed.size(); ++i) noise[i] = NoiseAt(sensed[i], g, o);
-  return noise;
-}
-
-// kMetricRay's lever arm: where the sensed point's ray meets the model's tangent plane (p, n); the sensed point
-// where the ray grazes the plane or meets it behind the camera.
-Eigen::Vector3d RayLever(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eigen::Vector3d& sensed,
-                         const SensedNoise& noise, const StereoNoiseGeometry& geometry) {
-  constexpr double kMinCosine = 0.1;
-  const double nu = n.dot(noise.ray);
-  if (!(std::abs(nu) > kMinCosine)) return sensed;
-  const double t = n.dot(p - geometry.camera_centre_in_tanker) / nu;
-  return t > 0.0 ? Eigen::Vector3d(geometry.camera_centre_in_tanker + t * noise.ray) : sensed;
-}
-
-// The element at v.size() / 2 in sorted order (reorders v).
-double UpperMedian(std::vector<double>& v) {
-  const auto middle = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), middle, v.end());
-  return *middle;
-}
-
-// Normal equations of one Gauss-Newton step in the frame centred on `centre`.
-struct NormalEquations {
-  Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
-  // PlaneIcpOptions::noise_bias_correction: the noise term's gradient and
-  // each pair's r^2 / sigma^2, gathered by Add when noise_bias is set.
-  bool noise_bias = false;
-  Eigen::Matrix<double, 6, 1> noise_gradient = Eigen::Matrix<double, 6, 1>::Zero();
-  std::vector<double> normalized_squares;
-
-  // Residual r = n . (p - s) of a model point p (tanker frame, normal n) and a
-  // sensed point s; Jacobian [ (s - centre) x n, n ] for the perturbation
-  // p -> centre + (I + [w]x)(p - centre) + v (normal rotated with it).
-  // `lever`: the point the rotation turns the residual about (s: the exact
-  // Jacobian; the model point p: free of the sensed point's noise).
-  void Add(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eigen::Vector3d& s, const SensedNoise& noise,
-           const Eigen::Vector3d& centre, const PlaneIcpOptions& o, double weight, double& sum_squared,
-           const Eigen::Vector3d& lever) {
-    const double r = n.dot(p - s);
-    const double along = n.dot(noise.ray);
-    const double variance = o.surface_noise_m * o.surface_noise_m + along * along * noise.ray_variance +
-                            (1.0 - along * along) * noise.lateral_variance;
-    const double scaled = r * r / (o.robust_scale * o.robust_scale * variance);
-    const double w = weight / (variance * (1.0 + scaled));  // Cauchy
-    Eigen::Matrix<double, 6, 1> j;
-    j.head<3>() = (lever - centre).cross(n);
-    j.tail<3>() = n;
-    Accumulate(j, w, r);
-    if (noise_bias) {
-      // The gradient of the pair's expected noise term (see PlaneIcpOptions::noise_bias_correction).
-      noise_gradient.head<3>() += w * (noise.ray_variance - noise.lateral_variance) * along * noise.ray.cross(n);
-      normalized_squares.push_back(r * r / variance);
-    }
-    sum_squared += r * r;
-  }
-
-  // kDisparity: the residual along the sensed point's own ray. The model's
-  // tangent plane (p, n) meets the ray c + t u at t = n . (p - c) / (n . u),
-  // x = c + t u, where the model predicts the disparity D = f b / (t (u . a))
-  // (a the optical axis; the rectified one differs by the rectification's
-  // turn, well under a degree, which scales D and d alike by under 1e-4);
-  // r = D - d with d = f b / (s - c) . a the measured disparity.
-  // dt = [ (x - centre) x n, n ] . (w, v) / (n . u), so the lever arm is x,
-  // on the model's surface, not the noisy s (no errors in the variables),
-  // and r, unlike a distance in metres, has the measurement's own symmetric
-  // noise: sigma_r^2 = sigma_d^2 + (D / t)^2 (sigma_0^2 + (1 - (n.u)^2)
-  // sigma_lat^2) / (n.u)^2, every term from the model's depth, none from the
-  // noisy one. Where the plane is so oblique to the ray that the lateral and
-  // surface terms outweigh the depth noise's, (n.u)^2 sigma_ray^2 < sigma_0^2
-  // + (1 - (n.u)^2) sigma_lat^2, the depth noise hardly enters the metric
-  // residual, whose meeting point would instead swing far along the ray with
-  // any lateral error: false, and the caller adds the metric residual.
-  bool AddDisparity(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eigen::Vector3d& s,
-                    const SensedNoise& noise, const StereoNoiseGeometry& geometry, const Eigen::Vector3d& centre,
-                    const PlaneIcpOptions& o, double weight, double& sum_squared) {
-    const double nu = n.dot(noise.ray);
-    if (!(nu < 0.0)) return false;
-    const double t = n.dot(p - geometry.camera_centre_in_tanker) / nu;
-    const double cos_axis = noise.ray.dot(geometry.optical_axis_in_tanker);
-    if (!(t > 0.0) || !(cos_axis > 0.0)) return false;
-    const double predicted = geometry.focal_times_baseline_px_m / (t * cos_axis);
-    const double per_metre = predicted / t;  // |dD / dt| [px / m]
-    const double lateral = t * cos_axis * o.lateral_noise_px / geometry.focal_px;
-    const double ray_sigma = o.disparity_noise_px / per_metre;  // sigma_ray at the model's depth [m]
-    const double across = o.surface_noise_m * o.surface_noise_m + (1.0 - nu * nu) * lateral * lateral;  // [m^2]
-    if (nu * nu * ray_sigma * ray_sigma < across) return false;
-    const Eigen::Vector3d x = geometry.camera_centre_in_tanker + t * noise.ray;
-    const double r = predicted - noise.disparity;
-    const double variance = o.disparity_noise_px * o.disparity_noise_px + per_metre * per_metre * across / (nu * nu);
-    const double scaled = r * r / (o.robust_scale * o.robust_scale * variance);
-    const double w = weight / (variance * (1.0 + scaled));  // Cauchy
-    Eigen::Matrix<double, 6, 1> j;
-    j.head<3>() = (x - centre).cross(n);
-    j.tail<3>() = n;
-    j *= -per_metre / nu;
-    Accumulate(j, w, r);
-    const double metric = n.dot(p - s);
-    sum_squared += metric * metric;
-    return true;
-  }
-
-  // One residual r with Jacobian j and weight w. The upper triangle of h only
-  // (h is symmetric; Solve mirrors it), each term (w j_a) j_b as the full
-  // outer product would form it.
-  void Accumulate(const Eigen::Matrix<double, 6, 1>& j, double w, double r) {
-    const Eigen::Matrix<double, 6, 1> wj = w * j;
-    for (int b = 0; b < 6; ++b) {
-      for (int a = 0; a <= b; ++a) h(a, b) += wj(a) * j(b);
-    }
-    g.noalias() += w * r * j;
-  }
-
-  Eigen::Matrix<double, 6, 1> Solve() { return Solve(g); }
-  Eigen::Matrix<double, 6, 1> Solve(const Eigen::Matrix<double, 6, 1>& gradient) {
-    h.triangularView<Eigen::StrictlyLower>() = h.transpose();
-    return -h.ldlt().solve(gradient);
-  }
-
-  // The step against the noise's own term with the variances scaled by
-  // scale_squared = median(r^2 / sigma^2) / (chi-square(1)'s median).
-  Eigen::Matrix<double, 6, 1> NoiseBiasStep(double& scale_squared) {
-    constexpr double kChiSquareOneMedian = 0.4549364;
-    scale_squared = UpperMedian(normalized_squares) / kChiSquareOneMedian;
-    return Solve(scale_squared * noise_gradient);
-  }
-};
+using plane_icp_detail::NoiseAt;
+using plane_icp_detail::NoiseOf;
+using plane_icp_detail::NormalEquations;
+using plane_icp_detail::RayLever;
+using plane_icp_detail::SensedNoise;
+using plane_icp_detail::UpperMedian;
 
 // The sensed-to-surface search of kMahalanobis. A point's stereo noise is
 // isotropic in the left camera's scaled disparity space
