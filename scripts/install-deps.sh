@@ -15,6 +15,9 @@ packages=(
   python3-numpy python3-pil python3-openimageio python3-opencv
   python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-tf2-msgs
   chromium
+  # tests/slurm: a one-node Slurm cluster that the test starts on its own key, socket and ports (Debian's
+  # packages enable munge and slurmctld services; without slurm.conf slurmctld does not start)
+  slurm-wlm munge
 )
 
 SUDO=""
