@@ -35,7 +35,8 @@ Options:
   --model M            reference model of the analysis: shelled or full (default shelled)
   --results DIR        folder of the analysis outputs (default results)
   --name NAME          their base name (default: DATASET's folder name)
-  --render-arg ARG     one more argument for `aar-render render` (repeat it: --render-arg --depth)
+  --render-arg ARG     one more argument for `aar-render render` (repeat it: --render-arg --depth); not
+                       --frames: a partial dataset fails finalize (exit 3), so give a shorter --flight-path
   --calib-arg ARG      one more argument for `aar-render calib` (--calib-arg --far-boards=none)
   --run-arg ARG        one more argument for `aar-analyze run` (--run-arg --preset=thesis)
   --cpus-per-task N    CPUs of each render task (default 2)
