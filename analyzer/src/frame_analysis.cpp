@@ -81,44 +81,41 @@ FrameAnalyzer::FrameAnalyzer(const StereoCalibration& calibration, const Eigen::
       options_(options) {
   options_.Check();
   if (options_.registration == Registration::kPointToPoint) {
-    point_icp_ = std::make_unique<IcpRegistration>(model.points_in_receiver, options_.icp);
+    registration_ = std::make_unique<IcpRegistration>(model.points_in_receiver, options_.icp);
   } else {
     StereoNoiseGeometry geometry;
     geometry.camera_centre_in_tanker = tanker_from_left.translation();
     geometry.optical_axis_in_tanker = tanker_from_left.linear().col(2);
     geometry.focal_px = std::abs(calibration.Q.at<double>(2, 3));
     geometry.focal_times_baseline_px_m = focal_times_baseline_px_m_;
-    plane_icp_ = std::make_unique<PlaneIcpRegistration>(model.points_in_receiver, model.normals_in_receiver, geometry,
-                                                        options_.plane_icp);
+    auto plane_icp = std::make_unique<PlaneIcpRegistration>(model.points_in_receiver, model.normals_in_receiver,
+                                                            geometry, options_.plane_icp);
     if (options_.pair_sensed_with_full_surface && full_surface != nullptr) {
-      plane_icp_->SetSensedPairingSurface(full_surface->points_in_receiver, full_surface->normals_in_receiver);
+      plane_icp->SetSensedPairingSurface(full_surface->points_in_receiver, full_surface->normals_in_receiver);
     }
+    registration_ = std::move(plane_icp);
   }
 }
 
-FrameAnalyzer::Registered FrameAnalyzer::Register(const std::vector<Eigen::Vector3d>& sensed,
-                                                  const std::optional<Pose>& previous) const {
+RegistrationResult FrameAnalyzer::Register(const std::vector<Eigen::Vector3d>& sensed,
+                                           const std::optional<Pose>& previous) const {
   return RegisterFrom(sensed, options_.seed == IcpSeed::kPreviousFrame && previous
                                   ? IsometryFromPose(*previous)
                                   : InitialGuessAtCentroid(sensed, model_points_));
 }
 
-FrameAnalyzer::Registered FrameAnalyzer::RegisterFrom(const std::vector<Eigen::Vector3d>& sensed,
-                                                      const Eigen::Isometry3d& initial) const {
-  if (point_icp_) {
-    const IcpResult r = point_icp_->Register(sensed, initial);
-    return {r.tanker_from_receiver, r.iterations, r.converged, r.rmse_m, r.num_inliers};
-  }
-  const PlaneIcpResult r = plane_icp_->Register(sensed, initial);
-  return {r.tanker_from_receiver, r.iterations, r.converged, r.rmse_m, r.num_inliers};
+RegistrationResult FrameAnalyzer::RegisterFrom(const std::vector<Eigen::Vector3d>& sensed,
+                                               const Eigen::Isometry3d& initial) const {
+  return registration_->Register(sensed, initial);
 }
 
-void FrameAnalyzer::MaskPropellersAndRegister(const std::vector<Eigen::Vector3d>& sensed, Registered& icp) const {
+void FrameAnalyzer::MaskPropellersAndRegister(const std::vector<Eigen::Vector3d>& sensed,
+                                              RegistrationResult& icp) const {
   if (!options_.mask_propellers) return;
   const PropellerMaskOptions& m = options_.propeller_mask;
   for (int pass = 0; pass < m.passes; ++pass) {
     const double axial_half_width_m = pass == 0 ? m.first_axial_half_width_m : m.axial_half_width_m;
-    const Registered masked =
+    const RegistrationResult masked =
         RegisterFrom(OutsidePropellerDiscs(sensed, icp.tanker_from_receiver, tanker_from_rect_left_.translation(), m,
                                            axial_half_width_m),
                      icp.tanker_from_receiver);
@@ -129,7 +126,7 @@ void FrameAnalyzer::MaskPropellersAndRegister(const std::vector<Eigen::Vector3d>
 }
 
 bool FrameAnalyzer::CorrectWindowBias(const cv::Mat& rect_left, const cv::Mat& rect_right, const cv::Rect& region,
-                                      SensedCloud& cloud, Registered& icp) const {
+                                      SensedCloud& cloud, RegistrationResult& icp) const {
   // The window's bias predicted from the model at the registered pose
   // (window_bias.h), subtracted, and the cloud registered again from there.
   WindowBiasOptions window_bias = options_.window_bias;
@@ -153,7 +150,7 @@ bool FrameAnalyzer::CorrectWindowBias(const cv::Mat& rect_left, const cv::Mat& r
     largest_move_m = std::max(largest_move_m, (corrected - cloud.points_in_tanker[k]).norm());
     corrected_cloud.points_in_tanker[k] = corrected;
   }
-  Registered corrected = RegisterFrom(corrected_cloud.points_in_tanker, icp.tanker_from_receiver);
+  RegistrationResult corrected = RegisterFrom(corrected_cloud.points_in_tanker, icp.tanker_from_receiver);
   MaskPropellersAndRegister(corrected_cloud.points_in_tanker, corrected);
   // Corrections of at most largest_move_m cannot move the receiver by more
   // than about that much: a registration that jumps further has slid into
@@ -223,9 +220,8 @@ void FrameAnalyzer::CompareCloudWithTruth(const DepthTruth& truth, SensedCloud& 
   }
 }
 
-FrameAnalyzer::Registered FrameAnalyzer::Measure(const FrameInputs& in, const cv::Rect& roi,
-                                                 const std::optional<Pose>& seed, FrameResult& r,
-                                                 FrameDump* dump) const {
+RegistrationResult FrameAnalyzer::Measure(const FrameInputs& in, const cv::Rect& roi, const std::optional<Pose>& seed,
+                                          FrameResult& r, FrameDump* dump) const {
   // The region computed: the receiver's predicted box and, to its left, the
   // columns its matches can come from (the disparity search and a block).
   DisparityOptions disparity_options = options_.disparity;
@@ -237,7 +233,7 @@ FrameAnalyzer::Registered FrameAnalyzer::Measure(const FrameInputs& in, const cv
            image;
   };
   SensedCloud cloud;
-  Registered icp{};
+  RegistrationResult icp;
   r.times.rectify_ms = r.times.disparity_ms = r.times.reproject_ms = r.times.icp_ms = 0.0;
   for (int attempt = 0;; ++attempt) {
     const cv::Rect region = compute_region(disparity_options);
@@ -326,7 +322,7 @@ cv::Rect FrameAnalyzer::PredictedRegion(const Eigen::Isometry3d& tanker_from_rec
   return box & image;
 }
 
-std::string FrameAnalyzer::RegistrationFailure(const Registered& reg, size_t sensed_points) const {
+std::string FrameAnalyzer::RegistrationFailure(const RegistrationResult& reg, size_t sensed_points) const {
   const double range_m = (reg.tanker_from_receiver.translation() - tanker_from_left_.translation()).norm();
   const double sigma_z = range_m * range_m * options_.disparity_noise_px / focal_times_baseline_px_m_;
   const double limit_m = options_.max_icp_rmse_m + 3.0 * sigma_z;
@@ -334,17 +330,17 @@ std::string FrameAnalyzer::RegistrationFailure(const Registered& reg, size_t sen
     return "ICP did not converge (residual " + FormatFixed(reg.rmse_m, 3) + " m, limit " + FormatFixed(limit_m, 3) +
            " m at " + FormatFixed(range_m, 1) + " m)";
   }
-  if (static_cast<double>(reg.inliers) < options_.min_inlier_fraction * static_cast<double>(sensed_points)) {
-    return "ICP lost the receiver (" + std::to_string(reg.inliers) + " of " + std::to_string(sensed_points) +
+  if (static_cast<double>(reg.num_inliers) < options_.min_inlier_fraction * static_cast<double>(sensed_points)) {
+    return "ICP lost the receiver (" + std::to_string(reg.num_inliers) + " of " + std::to_string(sensed_points) +
            " sensed points paired)";
   }
   return "";
 }
 
-FrameAnalyzer::Registered FrameAnalyzer::MeasureFrame(const FrameInputs& in, const std::optional<Pose>& predicted,
-                                                      const std::optional<Pose>& seed, FrameResult& r, FrameDump* dump,
-                                                      std::string& why) const {
-  Registered icp{};
+RegistrationResult FrameAnalyzer::MeasureFrame(const FrameInputs& in, const std::optional<Pose>& predicted,
+                                               const std::optional<Pose>& seed, FrameResult& r, FrameDump* dump,
+                                               std::string& why) const {
+  RegistrationResult icp;
   try {
     bool measured = false;
     StageTimes lost_times;  // spent on a region the receiver was not (all) in
@@ -431,12 +427,12 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
     }
     in.boom = boom_masks ? &*boom_masks : nullptr;
     std::string why;
-    const Registered icp =
+    const RegistrationResult icp =
         MeasureFrame(in, PredictedPose(history, r.time_s), SeedFromHistory(history, options_), r, dump, why);
     r.icp_iterations = icp.iterations;
     r.icp_converged = icp.converged;
     r.icp_rmse_m = icp.rmse_m;
-    r.icp_inliers = icp.inliers;
+    r.icp_inliers = icp.num_inliers;
     if (icp.tanker_from_receiver.matrix().allFinite()) {
       r.estimate = PoseFromIsometry(icp.tanker_from_receiver);
       r.error = PoseError(r.estimate, r.truth);

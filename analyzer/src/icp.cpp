@@ -98,8 +98,8 @@ IcpRegistration::IcpRegistration(std::vector<Eigen::Vector3d> model_points_in_re
 
 IcpRegistration::~IcpRegistration() = default;
 
-IcpResult IcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
-                                    const Eigen::Isometry3d& initial_tanker_from_receiver) const {
+RegistrationResult IcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
+                                             const Eigen::Isometry3d& initial_tanker_from_receiver) const {
   if (sensed.empty()) throw Error("ICP: the sensed point cloud is empty");
   CheckFinitePoints(sensed, "ICP: sensed point");
   const bool model_to_sensed = options_.correspondence == IcpCorrespondence::kModelToSensed;
@@ -139,7 +139,7 @@ IcpResult IcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
     }
   };
 
-  IcpResult result;
+  RegistrationResult result;
   result.tanker_from_receiver = initial_tanker_from_receiver;
   double previous_mse = 0.0;
   bool stop_after_association = false;
@@ -172,9 +172,9 @@ IcpResult IcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
   return result;
 }
 
-IcpResult RegisterIcp(const std::vector<Eigen::Vector3d>& model_points_in_receiver,
-                      const std::vector<Eigen::Vector3d>& sensed_points_in_tanker,
-                      const Eigen::Isometry3d& initial_tanker_from_receiver, const IcpOptions& options) {
+RegistrationResult RegisterIcp(const std::vector<Eigen::Vector3d>& model_points_in_receiver,
+                               const std::vector<Eigen::Vector3d>& sensed_points_in_tanker,
+                               const Eigen::Isometry3d& initial_tanker_from_receiver, const IcpOptions& options) {
   return IcpRegistration(model_points_in_receiver, options)
       .Register(sensed_points_in_tanker, initial_tanker_from_receiver);
 }

@@ -186,8 +186,8 @@ void PlaneIcpRegistration::SetSensedPairingSurface(std::vector<Eigen::Vector3d> 
   surface_tree_ = std::make_unique<KdTree3d>(surface_, options_.kdtree_leaf_size);
 }
 
-PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
-                                              const Eigen::Isometry3d& initial_tanker_from_receiver) const {
+RegistrationResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>& sensed,
+                                                  const Eigen::Isometry3d& initial_tanker_from_receiver) const {
   if (sensed.empty()) throw Error("point-to-plane ICP: the sensed point cloud is empty");
   CheckFinitePoints(sensed, "point-to-plane ICP: sensed point");
   const PlaneIcpOptions& o = options_;
@@ -234,7 +234,7 @@ PlaneIcpResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vector3d>
     to_sensed = std::make_unique<CachedNearest>(*sensed_tree, model_.size(), true, search_radius);
   }
 
-  PlaneIcpResult result;
+  RegistrationResult result;
   result.tanker_from_receiver = initial_tanker_from_receiver;
   // Coarse phase: every coarse_stride-th point of both clouds (weighted
   // coarse_stride) until the steps fall below ten times the tolerances; the

@@ -137,7 +137,7 @@ TEST_F(IcpFixture, ForwardRecoversTruthFromCentroidSeed) {
   EXPECT_GT(TranslationError(seed, truth_), 0.05);  // the seed is not the answer already
   IcpOptions options;
   options.max_iterations = 60;
-  const IcpResult result = RegisterIcp(model_, sensed_, seed, options);
+  const RegistrationResult result = RegisterIcp(model_, sensed_, seed, options);
   EXPECT_LT(TranslationError(result.tanker_from_receiver, truth_), 0.02);
   EXPECT_LT(RotationErrorDeg(result.tanker_from_receiver, truth_), 0.1);
   EXPECT_GT(result.iterations, 0);
@@ -154,7 +154,7 @@ TEST_F(IcpFixture, InverseRecoversInverseTransform) {
   options.max_iterations = 60;
   options.max_correspondence_distance_m = 0.5;
   const Eigen::Isometry3d seed = InitialGuessAtCentroid(model_, sensed_);
-  const IcpResult result = RegisterIcp(sensed_, model_, seed, options);
+  const RegistrationResult result = RegisterIcp(sensed_, model_, seed, options);
   const Eigen::Isometry3d expected = truth_.inverse();
   EXPECT_LT(TranslationError(result.tanker_from_receiver, expected), 0.02);
   EXPECT_LT(RotationErrorDeg(result.tanker_from_receiver, expected), 0.1);
@@ -166,7 +166,7 @@ TEST_F(IcpFixture, SensedToModelRecoversTruth) {
   options.max_iterations = 60;
   options.correspondence = IcpCorrespondence::kSensedToModel;
   options.max_correspondence_distance_m = 0.5;
-  const IcpResult result = RegisterIcp(model_, sensed_, InitialGuessAtCentroid(sensed_, model_), options);
+  const RegistrationResult result = RegisterIcp(model_, sensed_, InitialGuessAtCentroid(sensed_, model_), options);
   EXPECT_LT(TranslationError(result.tanker_from_receiver, truth_), 0.02);
   EXPECT_LT(RotationErrorDeg(result.tanker_from_receiver, truth_), 0.1);
   EXPECT_NEAR(result.fitness, 1.0 / 1.05, 0.01);  // the 5% outliers lie farther than 0.5 m
@@ -178,9 +178,9 @@ TEST_F(IcpFixture, RepeatedRunsAreBitwiseIdentical) {
     options.correspondence = direction;
     const IcpRegistration registration(model_, options);
     const Eigen::Isometry3d seed = InitialGuessAtCentroid(sensed_, model_);
-    const IcpResult a = registration.Register(sensed_, seed);
-    const IcpResult b = registration.Register(sensed_, seed);
-    const IcpResult c = RegisterIcp(model_, sensed_, seed, options);
+    const RegistrationResult a = registration.Register(sensed_, seed);
+    const RegistrationResult b = registration.Register(sensed_, seed);
+    const RegistrationResult c = RegisterIcp(model_, sensed_, seed, options);
     EXPECT_EQ(0, std::memcmp(a.tanker_from_receiver.data(), b.tanker_from_receiver.data(), sizeof(double) * 16));
     EXPECT_EQ(0, std::memcmp(a.tanker_from_receiver.data(), c.tanker_from_receiver.data(), sizeof(double) * 16));
     EXPECT_EQ(a.iterations, b.iterations);
@@ -195,8 +195,8 @@ TEST_F(IcpFixture, NearestNeighbourCacheChangesNothing) {
     IcpOptions uncached = cached;
     uncached.cache_nearest = false;
     const Eigen::Isometry3d seed = InitialGuessAtCentroid(sensed_, model_);
-    const IcpResult a = RegisterIcp(model_, sensed_, seed, cached);
-    const IcpResult b = RegisterIcp(model_, sensed_, seed, uncached);
+    const RegistrationResult a = RegisterIcp(model_, sensed_, seed, cached);
+    const RegistrationResult b = RegisterIcp(model_, sensed_, seed, uncached);
     EXPECT_EQ(0, std::memcmp(a.tanker_from_receiver.data(), b.tanker_from_receiver.data(), sizeof(double) * 16))
         << ToString(direction);
     EXPECT_EQ(a.rmse_m, b.rmse_m);
@@ -209,7 +209,7 @@ TEST(Icp, MatchesBruteForceReference) {
   const std::vector<Eigen::Vector3d> model = SampleSurface(mesh, 400, 11);
   const std::vector<Eigen::Vector3d> sensed = SensedCloud(mesh, TruthTankerFromReceiver(), 500, 12);
   const Eigen::Isometry3d seed = InitialGuessAtCentroid(sensed, model);
-  const IcpResult result = RegisterIcp(model, sensed, seed, FixedIterations(10));
+  const RegistrationResult result = RegisterIcp(model, sensed, seed, FixedIterations(10));
   const Eigen::Isometry3d reference = ReferenceIcp(model, sensed, seed, 10);
   EXPECT_EQ(result.iterations, 10);
   EXPECT_LT(TranslationError(result.tanker_from_receiver, reference), 1e-9);
@@ -221,7 +221,7 @@ TEST(Icp, StopsWhenConverged) {
   const Eigen::Isometry3d truth = TruthTankerFromReceiver();
   std::vector<Eigen::Vector3d> sensed;
   for (const Eigen::Vector3d& p : model) sensed.push_back(truth * p);
-  const IcpResult result = RegisterIcp(model, sensed, truth);
+  const RegistrationResult result = RegisterIcp(model, sensed, truth);
   EXPECT_TRUE(result.converged);
   EXPECT_LE(result.iterations, 2);
   EXPECT_LT(result.rmse_m, 1e-9);
@@ -311,7 +311,7 @@ TEST(Icp, TimingOfThirtyIterations) {
     const Eigen::Isometry3d seed = InitialGuessAtCentroid(sensed, model);
     double best_ms = std::numeric_limits<double>::infinity();
     double best_cpu_ms = std::numeric_limits<double>::infinity();
-    IcpResult result;
+    RegistrationResult result;
     for (int run = 0; run < 5; ++run) {
       const auto start = std::chrono::steady_clock::now();
       const double cpu_start = ThreadCpuMs();

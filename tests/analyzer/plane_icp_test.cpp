@@ -53,7 +53,7 @@ TEST_P(PlaneIcpConverges, FromHalfAMetreAndFiveDegreesWithinTwentyIterations) {
   PlaneIcpOptions options;
   options.pairing = GetParam();
   const PlaneIcpRegistration icp(model.points_in_receiver, model.normals_in_receiver, Geometry(), options);
-  const PlaneIcpResult result = icp.Register(sensed, initial);
+  const RegistrationResult result = icp.Register(sensed, initial);
   EXPECT_TRUE(result.converged);
   EXPECT_LE(result.iterations, 20);
   const Eigen::Isometry3d error = TruePose().inverse() * result.tanker_from_receiver;
@@ -86,7 +86,7 @@ TEST(PlaneIcp, PairsSensedPointsWithTheFullSurfaceWhenGiven) {
   PlaneIcpRegistration icp(half.points_in_receiver, half.normals_in_receiver, Geometry(), options);
   EXPECT_THROW(icp.SetSensedPairingSurface(full.points_in_receiver, {}), Error);
   icp.SetSensedPairingSurface(full.points_in_receiver, full.normals_in_receiver);
-  const PlaneIcpResult result = icp.Register(sensed, initial);
+  const RegistrationResult result = icp.Register(sensed, initial);
   EXPECT_TRUE(result.converged);
   const Eigen::Isometry3d error = TruePose().inverse() * result.tanker_from_receiver;
   EXPECT_LT(error.translation().norm(), 0.01);
@@ -117,7 +117,7 @@ TEST(PlaneIcp, ModelPullFadesWithTheScaleAgainstTheDepthNoise) {
     options.pairing = pairing;
     options.model_pull_scale_m = pull_scale_m;
     const PlaneIcpRegistration icp(model.points_in_receiver, model.normals_in_receiver, geometry, options);
-    const PlaneIcpResult result = icp.Register(sensed, TruePose());
+    const RegistrationResult result = icp.Register(sensed, TruePose());
     EXPECT_TRUE(result.converged);
     return result.tanker_from_receiver;
   };
@@ -162,7 +162,7 @@ TEST(PlaneIcp, MahalanobisPairingConvergesOnTheSurfacesFacingTheCameras) {
     options.pairing = PlanePairing::kMahalanobis;
     options.residual = residual;
     const PlaneIcpRegistration icp(model.points_in_receiver, model.normals_in_receiver, geometry, options);
-    const PlaneIcpResult result = icp.Register(sensed, initial);
+    const RegistrationResult result = icp.Register(sensed, initial);
     EXPECT_TRUE(result.converged);
     EXPECT_LE(result.iterations, 40);
     const Eigen::Isometry3d error = TruePose().inverse() * result.tanker_from_receiver;
@@ -194,7 +194,7 @@ TEST(PlaneIcp, TheRayLeverArmAndTheNoiseBiasCorrectionRemoveTheNoisesTilt) {
     options.disparity_noise_px = model_noise_px;
     options.noise_bias_correction = correction;
     const PlaneIcpRegistration icp(model.points_in_receiver, model.normals_in_receiver, geometry, options);
-    const PlaneIcpResult result = icp.Register(sensed, TruePose());
+    const RegistrationResult result = icp.Register(sensed, TruePose());
     noise_scale = result.noise_scale;
     const Eigen::Isometry3d error = TruePose().inverse() * result.tanker_from_receiver;
     return Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI;

@@ -211,29 +211,21 @@ class FrameAnalyzer {
   Eigen::Isometry3d tanker_from_rect_left_;  // tanker_from_left * R1^T
   Rectifier rectifier_;
   std::vector<Eigen::Vector3d> model_points_;
-  std::unique_ptr<IcpRegistration> point_icp_;
-  std::unique_ptr<PlaneIcpRegistration> plane_icp_;
+  std::unique_ptr<RegistrationMethod> registration_;  // options.registration's
   FrameAnalysisOptions options_;
   std::unique_ptr<BoomMasker> boom_masker_;
   std::unique_ptr<TriangleMesh> receiver_mesh_;
 
-  struct Registered {
-    Eigen::Isometry3d tanker_from_receiver;
-    int iterations;
-    bool converged;
-    double rmse_m;
-    size_t inliers;
-  };
-  Registered Register(const std::vector<Eigen::Vector3d>& sensed, const std::optional<Pose>& previous) const;
-  Registered RegisterFrom(const std::vector<Eigen::Vector3d>& sensed, const Eigen::Isometry3d& initial) const;
+  RegistrationResult Register(const std::vector<Eigen::Vector3d>& sensed, const std::optional<Pose>& previous) const;
+  RegistrationResult RegisterFrom(const std::vector<Eigen::Vector3d>& sensed, const Eigen::Isometry3d& initial) const;
   // options.mask_propellers: registers again without the points in the
   // propeller discs at `icp`'s pose, pass by pass, while the masks agree.
-  void MaskPropellersAndRegister(const std::vector<Eigen::Vector3d>& sensed, Registered& icp) const;
+  void MaskPropellersAndRegister(const std::vector<Eigen::Vector3d>& sensed, RegistrationResult& icp) const;
   // options.correct_window_bias: subtracts the window bias predicted at
   // `icp`'s pose from `cloud` and registers again; keeps both only when the
   // new pose passes the jump test. Returns whether it did.
   bool CorrectWindowBias(const cv::Mat& rect_left, const cv::Mat& rect_right, const cv::Rect& region,
-                         SensedCloud& cloud, Registered& icp) const;
+                         SensedCloud& cloud, RegistrationResult& icp) const;
   // One frame's images and what the analysis reads beside them.
   struct FrameInputs {
     cv::Mat left, right;
@@ -250,17 +242,18 @@ class FrameAnalyzer {
   // options.register_truth_cloud the cloud becomes the ideal one.
   void CompareCloudWithTruth(const DepthTruth& truth, SensedCloud& cloud, FrameResult& r) const;
   // Rectify, match, re-project and register in `roi` (empty: the whole image).
-  Registered Measure(const FrameInputs& in, const cv::Rect& roi, const std::optional<Pose>& seed, FrameResult& r,
-                     FrameDump* dump) const;
+  RegistrationResult Measure(const FrameInputs& in, const cv::Rect& roi, const std::optional<Pose>& seed,
+                             FrameResult& r, FrameDump* dump) const;
   // Why a registration failed: its residual beyond what stereo noise at its
   // range explains, or too few pairs (min_inlier_fraction); empty when it did not.
-  std::string RegistrationFailure(const Registered& registered, size_t sensed_points) const;
+  std::string RegistrationFailure(const RegistrationResult& registered, size_t sensed_points) const;
   // Measures in the region `predicted` puts the receiver in (tracking), or
   // the whole image when there is none or the receiver reaches its border,
   // from `seed`; and again from the centroid over the whole image when a
   // seeded registration fails. `why` says why the last one failed (empty: it did not).
-  Registered MeasureFrame(const FrameInputs& in, const std::optional<Pose>& predicted, const std::optional<Pose>& seed,
-                          FrameResult& r, FrameDump* dump, std::string& why) const;
+  RegistrationResult MeasureFrame(const FrameInputs& in, const std::optional<Pose>& predicted,
+                                  const std::optional<Pose>& seed, FrameResult& r, FrameDump* dump,
+                                  std::string& why) const;
   // The model's box in the rectified left image at a pose, grown by margins.
   cv::Rect PredictedRegion(const Eigen::Isometry3d& tanker_from_receiver, double margin_fraction, int margin_px) const;
   cv::Rect PredictedRegion(const Eigen::Isometry3d& tanker_from_receiver) const {

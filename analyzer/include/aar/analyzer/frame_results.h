@@ -56,10 +56,10 @@ struct FrameResult {
   Pose estimate;               ///< estimated tanker_from_receiver (meaningful when ok)
   SixDof error;                ///< PoseError(estimate, truth) (meaningful when ok)
   size_t sensed_points = 0;    ///< points of the sensed cloud given to ICP
-  int icp_iterations = 0;      ///< IcpResult::iterations
-  bool icp_converged = false;  ///< IcpResult::converged
-  double icp_rmse_m = 0.0;     ///< IcpResult::rmse_m [m]
-  size_t icp_inliers = 0;      ///< IcpResult::num_inliers
+  int icp_iterations = 0;      ///< RegistrationResult::iterations
+  bool icp_converged = false;  ///< RegistrationResult::converged
+  double icp_rmse_m = 0.0;     ///< RegistrationResult::rmse_m [m]
+  size_t icp_inliers = 0;      ///< RegistrationResult::num_inliers
   StageTimes times;            ///< stage timings [ms]
   /// The sensed cloud against the depth truth (datasets with --depth; zero points otherwise).
   StereoTruthStats stereo_truth;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "aar/analyzer/kdtree.h"
+#include "aar/analyzer/registration.h"
 
 namespace aar {
 
@@ -63,28 +64,18 @@ struct IcpOptions {
   void Check() const;
 };
 
-struct IcpResult {
-  Eigen::Isometry3d tanker_from_receiver = Eigen::Isometry3d::Identity();
-  bool converged = false;       ///< a tolerance was met before max_iterations
-  int iterations = 0;           ///< transform updates applied
-  size_t num_inliers = 0;       ///< pairs within max_correspondence_distance_m at the returned transform
-  double rmse_m = 0.0;          ///< RMS distance of those pairs at the returned transform [m]
-  double fitness = 0.0;         ///< num_inliers / number of query points (model or sensed, per direction)
-  double initial_rmse_m = 0.0;  ///< same RMS at the initial transform [m]
-};
-
 /// ICP against one reference model, reusable across frames (and threads).
 /// For kSensedToModel the model's KD-tree is built once, here.
-class IcpRegistration {
+class IcpRegistration : public RegistrationMethod {
  public:
   IcpRegistration(std::vector<Eigen::Vector3d> model_points_in_receiver, const IcpOptions& options = {});
-  ~IcpRegistration();
+  ~IcpRegistration() override;
 
   /// Registers one frame. Throws aar::Error when either cloud is empty.
-  IcpResult Register(const std::vector<Eigen::Vector3d>& sensed_points_in_tanker,
-                     const Eigen::Isometry3d& initial_tanker_from_receiver) const;
+  RegistrationResult Register(const std::vector<Eigen::Vector3d>& sensed_points_in_tanker,
+                              const Eigen::Isometry3d& initial_tanker_from_receiver) const override;
 
-  const std::vector<Eigen::Vector3d>& model_points_in_receiver() const { return model_; }
+  const std::vector<Eigen::Vector3d>& model_points_in_receiver() const override { return model_; }
   const IcpOptions& options() const { return options_; }
 
  private:
@@ -94,9 +85,9 @@ class IcpRegistration {
 };
 
 /// One-shot form of IcpRegistration(model, options).Register(sensed, initial).
-IcpResult RegisterIcp(const std::vector<Eigen::Vector3d>& model_points_in_receiver,
-                      const std::vector<Eigen::Vector3d>& sensed_points_in_tanker,
-                      const Eigen::Isometry3d& initial_tanker_from_receiver, const IcpOptions& options = {});
+RegistrationResult RegisterIcp(const std::vector<Eigen::Vector3d>& model_points_in_receiver,
+                               const std::vector<Eigen::Vector3d>& sensed_points_in_tanker,
+                               const Eigen::Isometry3d& initial_tanker_from_receiver, const IcpOptions& options = {});
 
 /// The thesis's seed (section 3.7, Experiment 1): zero roll, pitch and yaw,
 /// and the model's centroid placed on the sensed cloud's centroid:

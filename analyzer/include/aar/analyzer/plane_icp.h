@@ -57,6 +57,7 @@
 #include <vector>
 
 #include "aar/analyzer/kdtree.h"
+#include "aar/analyzer/registration.h"
 
 namespace aar {
 
@@ -165,27 +166,14 @@ struct StereoNoiseGeometry {
   double focal_times_baseline_px_m = 450.0;                           ///< f b [px m]
 };
 
-struct PlaneIcpResult {
-  Eigen::Isometry3d tanker_from_receiver = Eigen::Isometry3d::Identity();
-  bool converged = false;       ///< the tolerances were met before max_iterations
-  int iterations = 0;           ///< steps applied
-  size_t num_inliers = 0;       ///< sensed points paired within max_correspondence_distance_m
-  double rmse_m = 0.0;          ///< RMS point-to-plane distance of those pairs [m]
-  double fitness = 0.0;         ///< num_inliers / sensed points
-  double initial_rmse_m = 0.0;  ///< the same RMS at the initial transform [m]
-  /// With noise_bias_correction: the pairs' noise against the model's,
-  /// sqrt(median(r^2 / sigma^2) / 0.4549) (1 = as modelled; 0 = not applied).
-  double noise_scale = 0.0;
-};
-
 /// Point-to-plane ICP against one reference model, reusable across frames.
-class PlaneIcpRegistration {
+class PlaneIcpRegistration : public RegistrationMethod {
  public:
   /// `model_normals_in_receiver`: one unit normal per model point.
   PlaneIcpRegistration(std::vector<Eigen::Vector3d> model_points_in_receiver,
                        std::vector<Eigen::Vector3d> model_normals_in_receiver, const StereoNoiseGeometry& geometry,
                        const PlaneIcpOptions& options = {});
-  ~PlaneIcpRegistration();
+  ~PlaneIcpRegistration() override;
 
   /// Pairs sensed points with this surface (points and unit normals, receiver
   /// frame) instead of the model; model-to-sensed pairs keep the model. With
@@ -195,10 +183,10 @@ class PlaneIcpRegistration {
                                std::vector<Eigen::Vector3d> normals_in_receiver);
 
   /// Registers one frame. Throws aar::Error when the sensed cloud is empty or not finite.
-  PlaneIcpResult Register(const std::vector<Eigen::Vector3d>& sensed_points_in_tanker,
-                          const Eigen::Isometry3d& initial_tanker_from_receiver) const;
+  RegistrationResult Register(const std::vector<Eigen::Vector3d>& sensed_points_in_tanker,
+                              const Eigen::Isometry3d& initial_tanker_from_receiver) const override;
 
-  const std::vector<Eigen::Vector3d>& model_points_in_receiver() const { return model_; }
+  const std::vector<Eigen::Vector3d>& model_points_in_receiver() const override { return model_; }
 
  private:
   std::vector<Eigen::Vector3d> model_;
