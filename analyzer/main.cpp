@@ -402,26 +402,26 @@ int RunExport(int argc, char** argv) {
   std::string format, frames;
   std::filesystem::path run;
   app.add_option("dataset", options.dataset, "dataset folder")->required();
-  app.add_option("--format", format,
-                 "bop (6-DoF pose benchmark), middlebury (stereo: calib.txt, disparity truth), tum (trajectories), "
-                 "ros (CameraInfo YAML), rosbag (ROS 1 bag: images, CameraInfo, truth and estimates)")
-      ->required();
+  std::string formats;
+  for (const aar::Exporter& e : aar::Exporters()) {
+    formats += std::string(formats.empty() ? "" : ", ") + e.format + " (" + e.description + ")";
+  }
+  app.add_option("--format", format, formats)->required();
   app.add_option("--out", options.out, "output folder (created)")->required();
   app.add_option("--frames", frames, "half-open range a:b of frame indices (default: all)");
-  app.add_option("--run", run, "tum, rosbag: an `aar-analyze run` folder of this dataset; writes its estimates too");
-  if (const auto code = Parse(app, argc, argv)) return *code;
-  const aar::ExportFormat parsed = aar::ParseExportFormat(format);
-  options.selection = aar::ParseFrameSelection(frames, "0/1");  // one output: never sharded by Slurm variables
-  if (!run.empty()) {
-    if (parsed != aar::ExportFormat::kTum && parsed != aar::ExportFormat::kRosbag) {
-      throw aar::Error("--run: only with --format tum or rosbag");
-    }
-    options.run = run;
+  std::string takes_run;
+  for (const aar::Exporter& e : aar::Exporters()) {
+    if (e.takes_run) takes_run += std::string(takes_run.empty() ? "" : ", ") + e.format;
   }
-  const aar::ExportResult result = aar::ExportDataset(parsed, options);
+  app.add_option("--run", run, takes_run + ": an `aar-analyze run` folder of this dataset; writes its estimates too");
+  if (const auto code = Parse(app, argc, argv)) return *code;
+  const aar::Exporter& exporter = aar::FindExporter(format);
+  options.selection = aar::ParseFrameSelection(frames, "0/1");  // one output: never sharded by Slurm variables
+  if (!run.empty()) options.run = run;
+  const aar::ExportResult result = aar::ExportDataset(exporter, options);
   for (const std::string& note : result.notes) std::fprintf(stderr, "note: %s\n", note.c_str());
-  std::fprintf(stderr, "%s: %zu frames, %zu files in %s\n", aar::ToString(parsed).c_str(), result.frames,
-               result.files.size(), options.out.c_str());
+  std::fprintf(stderr, "%s: %zu frames, %zu files in %s\n", exporter.format, result.frames, result.files.size(),
+               options.out.c_str());
   return 0;
 }
 

@@ -14,19 +14,10 @@
 #include "aar/analyzer/frame_analysis.h"
 #include "aar/analyzer/pose_filter.h"
 #include "aar/analyzer/reference_model.h"
+#include "aar/analyzer/run_files.h"
 #include "aar/frame_selection.h"
 
 namespace aar {
-
-/// Result files of a run folder.
-inline constexpr const char* kFramesCsvName = "frames.csv";
-inline constexpr const char* kSummaryJsonName = "summary.json";
-inline constexpr const char* kSummaryMarkdownName = "summary.md";
-inline constexpr const char* kRunJsonName = "run.json";
-inline constexpr const char* kBopResultsName = "bop_results.csv";
-inline constexpr const char* kCalibrationYamlName = "calibration.yaml";
-inline constexpr const char* kCalibrationReportName = "calibration_report.json";
-inline constexpr const char* kFrameDumpDir = "frames";
 
 struct ReferenceRequest {
   std::string model = "shelled";  ///< "full" or "shelled"

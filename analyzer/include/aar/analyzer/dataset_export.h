@@ -1,89 +1,35 @@
 #pragma once
 // `aar-analyze export`: a dataset in the formats other tools read
-// (docs/dataset-format.md, "Exports"). One exporter per file pair
-// (export_bop, export_middlebury, export_tum, export_ros); this pair holds
-// what they share: the options, the result, and reading the selected frames
-// through the dataset schema with every file checked against its SHA-256.
+// (docs/dataset-format.md, "Exports"). Each exporter is a file pair over
+// export_source.h (export_bop, export_middlebury, export_tum, export_ros,
+// export_rosbag) and one line in the table of dataset_export.cpp; nothing
+// else names it.
 
-#include <cstddef>
-#include <filesystem>
-#include <optional>
 #include <string>
 #include <vector>
 
-#include "aar/analyzer/frame_results.h"
-#include "aar/dataset.h"
-#include "aar/frame_selection.h"
-#include "aar/stereo_calibration.h"
+#include "aar/analyzer/export_source.h"
 
 namespace aar {
 
-enum class ExportFormat {
-  kBop,         ///< BOP 6-DoF pose benchmark (scenewise), left and right as two camera types
-  kMiddlebury,  ///< Middlebury stereo: calib.txt, im0/im1.png, disp0GT.pfm (disp1GT.pfm)
-  kTum,         ///< TUM trajectories (truth, and an analyzer run's estimates)
-  kRos,         ///< ROS CameraInfo YAML of both cameras
-  kRosbag,      ///< ROS 1 bag: images, CameraInfo, truth as tf and poses (and an analyzer run's estimates)
-};
-std::string ToString(ExportFormat format);
-/// "bop" / "middlebury" / "tum" / "ros" / "rosbag"; throws aar::Error on other text.
-ExportFormat ParseExportFormat(const std::string& text);
-
-struct ExportOptions {
-  std::filesystem::path dataset;  ///< dataset folder (read only)
-  std::filesystem::path out;      ///< output folder (created; files in it are replaced)
-  FrameSelection selection;       ///< frames exported (all by default)
-  std::optional<std::filesystem::path>
-      run;  ///< tum, rosbag: an `aar-analyze run` folder whose estimates are written too
+struct Exporter {
+  const char* format;       ///< the --format value
+  const char* description;  ///< what it writes, for --help
+  bool takes_run;           ///< also writes an `aar-analyze run` folder's estimates (--run)
+  ExportResult (*run)(const ExportOptions& options);
 };
 
-struct ExportResult {
-  size_t frames = 0;               ///< frames exported
-  std::vector<std::string> files;  ///< files written, relative to `out`, in the order written
-  std::vector<std::string> notes;  ///< what was left out and why (e.g. no right-camera depth)
-};
+/// Every exporter, in the order --help lists them.
+const std::vector<Exporter>& Exporters();
 
-/// Runs the exporter of `format`. Everything that makes the export impossible
-/// (no manifest, a missing or changed file, no depth truth where the format
-/// needs it) throws aar::Error naming the file before the first file is written.
-ExportResult ExportDataset(ExportFormat format, const ExportOptions& options);
+/// The exporter of `format`; throws aar::Error listing the formats otherwise.
+const Exporter& FindExporter(const std::string& format);
 
-/// The dataset as the exporters read it: the manifest and the selected
-/// frames' sidecars, each checked against the manifest's SHA-256.
-struct ExportSource {
-  std::filesystem::path dataset;
-  Manifest manifest;
-  std::vector<FrameSidecar> frames;  ///< ascending index
-};
-
-/// Reads the manifest and the sidecars of the selected frames; throws
-/// aar::Error when the dataset has no frames, the selection is empty, or a
-/// sidecar is missing, malformed or differs from the manifest's hash.
-ExportSource ReadExportSource(const ExportOptions& options);
-
-/// A file of a frame, read and checked against the sidecar's (and the
-/// manifest's) SHA-256; throws aar::Error naming the file otherwise.
-std::string ReadVerifiedFile(const ExportSource& source, const FileRef& ref);
-
-/// The frames of ExportOptions::run (none without one), ascending; throws
-/// aar::Error naming run.json when the run analyzed another dataset
-/// (dataset_manifest_sha256), and as ReadFrameResults on a bad frames.csv.
-std::vector<FrameResult> ReadRunEstimates(const ExportOptions& options);
-
-/// The dataset's calibration_ideal.yaml, checked against the manifest's
-/// SHA-256; throws aar::Error naming it when missing or changed.
-StereoCalibration ReadIdealCalibration(const ExportSource& source);
-
-/// The sidecar's file `role` (e.g. "left_depth"); throws aar::Error naming
-/// the sidecar and `need` (what to render, e.g. "--depth") when it is absent.
-const FileRef& RequireFile(const ExportSource& source, const FrameSidecar& frame, const std::string& role,
-                           const std::string& need);
-
-/// Shortest text that reads back as the same double ("0.5", "900", "1e-05"), locale-free.
-std::string ShortestDecimal(double value);
-
-/// Writes `bytes` to out/relative atomically (creating folders) and records it in `result`.
-void WriteExportFile(const std::filesystem::path& out, const std::string& relative, const std::string& bytes,
-                     ExportResult& result);
+/// Runs `exporter` into options.out, written as a whole (output_folder.h).
+/// Everything that makes the export impossible (no manifest, a missing or
+/// changed file, no depth truth where the format needs it, a --run the
+/// format does not take) throws aar::Error naming the file before the first
+/// file is written.
+ExportResult ExportDataset(const Exporter& exporter, const ExportOptions& options);
 
 }  // namespace aar

@@ -21,7 +21,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "aar/analyzer/dataset_export.h"
+#include "aar/analyzer/export_source.h"
 #include "aar/analyzer/mesh.h"
 
 namespace aar {

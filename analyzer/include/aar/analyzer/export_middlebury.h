@@ -15,7 +15,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 
-#include "aar/analyzer/dataset_export.h"
+#include "aar/analyzer/export_source.h"
 
 namespace aar {
 

@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "aar/analyzer/dataset_export.h"
+#include "aar/analyzer/export_source.h"
 #include "aar/stereo_calibration.h"
 
 namespace aar {

@@ -20,7 +20,7 @@
 
 #include <string>
 
-#include "aar/analyzer/dataset_export.h"
+#include "aar/analyzer/export_source.h"
 
 namespace aar {
 

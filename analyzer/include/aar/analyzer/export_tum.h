@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "aar/analyzer/dataset_export.h"
+#include "aar/analyzer/export_source.h"
 #include "aar/pose.h"
 
 namespace aar {
