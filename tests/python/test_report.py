@@ -98,6 +98,8 @@ class BrowserTest(unittest.TestCase):
                               r"--dump-frames \d+(,\d+)* --out \S+/results/approach")
         self.assertIn("12 of 12 board pairs used", dom)
         self.assertIn("only 22 sensed points", dom)  # frame 0, not measured
+        self.assertIn("<th>AR VSD</th>", dom)  # the dataset has depth truth: BOP's VSD and full AR
+        self.assertIn("<th>AR</th>", dom)
 
     def test_everything_inline(self):
         text = self.page.read_text()
