@@ -204,10 +204,16 @@ DisparityMap FrameAnalyzer::Match(const cv::Mat& rect_left, const cv::Mat& rect_
   return disparity;
 }
 
+StereoTruthOptions FrameAnalyzer::TruthOptions(const FrameResult& r) const {
+  StereoTruthOptions options;
+  options.rect_left_from_receiver = tanker_from_rect_left_.inverse() * IsometryFromPose(r.truth);
+  return options;
+}
+
 void FrameAnalyzer::CompareCloudWithTruth(const DepthTruth& truth, SensedCloud& cloud, FrameResult& r) const {
   std::vector<Eigen::Vector3d> ideal;
-  r.stereo_truth =
-      CompareWithTruth(cloud.pixels, truth, calibration_, {}, options_.register_truth_cloud ? &ideal : nullptr);
+  r.stereo_truth = CompareWithTruth(cloud.pixels, truth, calibration_, TruthOptions(r),
+                                    options_.register_truth_cloud ? &ideal : nullptr);
   if (!options_.register_truth_cloud) return;
   cloud.points_in_tanker.clear();
   RandomStream noise(0x9E3779B97F4A7C15ull * (r.frame + 1));
@@ -218,6 +224,25 @@ void FrameAnalyzer::CompareCloudWithTruth(const DepthTruth& truth, SensedCloud& 
     }
     cloud.points_in_tanker.push_back(tanker_from_rect_left_ * p);
   }
+}
+
+void FrameAnalyzer::CountPropellersKept(const DepthTruth& truth, const SensedCloud& cloud,
+                                        const RegistrationResult& icp, bool corrected, FrameResult& r,
+                                        FrameDump* dump) const {
+  std::vector<size_t> blades;
+  if (corrected || dump != nullptr || !options_.register_truth_cloud) {
+    r.stereo_truth = CompareWithTruth(cloud.pixels, truth, calibration_, TruthOptions(r), nullptr,
+                                      dump != nullptr ? &dump->true_disparity_px : nullptr, &blades);
+  }
+  if (options_.register_truth_cloud) return;  // the cloud is the ideal one, not the sensed pixels'
+  std::vector<Eigen::Vector3d> on_blades;
+  for (size_t i : blades) on_blades.push_back(cloud.points_in_tanker[i]);
+  r.stereo_truth.propellers_kept =
+      options_.mask_propellers
+          ? OutsidePropellerDiscs(on_blades, icp.tanker_from_receiver, tanker_from_rect_left_.translation(),
+                                  options_.propeller_mask, options_.propeller_mask.axial_half_width_m)
+                .size()
+          : on_blades.size();
 }
 
 RegistrationResult FrameAnalyzer::Measure(const FrameInputs& in, const cv::Rect& roi, const std::optional<Pose>& seed,
@@ -275,10 +300,7 @@ RegistrationResult FrameAnalyzer::Measure(const FrameInputs& in, const cv::Rect&
       dump->pixels = cloud.pixels;
       dump->true_disparity_px.clear();
     }
-    if (in.truth && (corrected || dump != nullptr)) {
-      r.stereo_truth = CompareWithTruth(cloud.pixels, *in.truth, calibration_, {}, nullptr,
-                                        dump != nullptr ? &dump->true_disparity_px : nullptr);
-    }
+    if (in.truth) CountPropellersKept(*in.truth, cloud, icp, corrected, r, dump);
     r.times.icp_ms += MillisecondsSince(start);
     // Near frames: part of the receiver beyond the search gives no (or
     // wrong) disparities; search again up to what the estimate needs.

@@ -15,7 +15,7 @@ namespace {
 
 constexpr int kValueDecimals = 6;     // seconds, metres, degrees
 constexpr int kTimeDecimals = 3;      // milliseconds
-constexpr size_t kColumns = 57;       // 58 with receiver_occluded_fraction
+constexpr size_t kColumns = 59;       // 60 with receiver_occluded_fraction
 constexpr size_t kFilterColumn = 34;  // first filt_est_* column
 constexpr size_t kBopColumn = 46;     // mssd_m, then mspd_px, add_m, adds_m, vsd_errors
 
@@ -77,7 +77,7 @@ std::string FrameResultsCsvHeader(bool boom) {
     for (const char* dof : kDofNames) h += std::string(",") + prefix + dof;
   }
   for (const char* column : kBopColumns) h += std::string(",") + column;
-  h += ",vsd_errors";
+  h += ",vsd_errors,truth_on_propellers,truth_propellers_kept";
   for (const char* column : kTimeColumns) h += std::string(",") + column;
   if (boom) h += ",receiver_occluded_fraction";
   return h;
@@ -133,6 +133,8 @@ std::string FormatFrameResults(const std::vector<FrameResult>& results) {
       for (double e : *bop.vsd) vsd += (vsd.empty() ? "" : " ") + FormatFixed(e, kValueDecimals);
     }
     field(vsd);
+    field(std::to_string(t.on_propellers));
+    field(std::to_string(t.propellers_kept));
     StageTimes times = f.times;
     for (const double* t : TimeFields(times)) field(FormatFixed(*t, kTimeDecimals));
     if (boom) {
@@ -249,7 +251,9 @@ std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::str
       }
       f.bop_errors->vsd = vsd;
     }
-    size_t c = vsd_column + 1;
+    t.on_propellers = static_cast<size_t>(ParseInteger(fields[vsd_column + 1], column(vsd_column + 1)));
+    t.propellers_kept = static_cast<size_t>(ParseInteger(fields[vsd_column + 2], column(vsd_column + 2)));
+    size_t c = vsd_column + 3;
     for (double* t : TimeFields(f.times)) {
       *t = ParseFiniteDouble(fields[c], column(c));
       ++c;

@@ -273,16 +273,21 @@ std::string SummaryToMarkdown(const Summary& summary) {
     }
   }
   out += "\n";
-  bool any_truth = false;
+  bool any_truth = false, any_blades = false;
   for (const ModelSummary& m : summary.models) {
-    for (const GroupStats& g : m.groups) any_truth = any_truth || g.stereo_truth.points > 0;
+    for (const GroupStats& g : m.groups) {
+      any_truth = any_truth || g.stereo_truth.points > 0;
+      any_blades = any_blades || g.stereo_truth.on_propellers > 0;
+    }
   }
   if (any_truth) {
     out +=
         "## The sensed cloud against depth truth\n\n"
-        "| Region | Model | Points | Off the receiver | Off the surface (> 0.5 px) | Disparity error mean (px) | RMS "
-        "(px) |\n"
-        "|---|---|---:|---:|---:|---:|---:|\n";
+        "| Region | Model | Points | Off the receiver | Off the surface (> 0.5 px) |";
+    out += any_blades ? " On propeller blades | Blades kept |" : "";
+    out += " Disparity error mean (px) | RMS (px) |\n|---|---|---:|---:|---:|";
+    out += any_blades ? "---:|---:|" : "";
+    out += "---:|---:|\n";
     for (const std::string& group : regions) {
       for (const ModelSummary& m : summary.models) {
         const GroupStats* g = FindGroup(m, group);
@@ -295,6 +300,10 @@ std::string SummaryToMarkdown(const Summary& summary) {
         AppendCell(out, std::to_string(t.points));
         AppendCell(out, FormatFixed(100.0 * static_cast<double>(t.off_receiver) / n, 1) + " %");
         AppendCell(out, FormatFixed(100.0 * static_cast<double>(t.off_surface) / n, 1) + " %");
+        if (any_blades) {
+          AppendCell(out, FormatFixed(100.0 * static_cast<double>(t.on_propellers) / n, 1) + " %");
+          AppendCell(out, FormatFixed(100.0 * static_cast<double>(t.propellers_kept) / n, 1) + " %");
+        }
         AppendCell(out, FormatFixed(t.MeanErrorPx(), 4));
         AppendCell(out, FormatFixed(t.RmsErrorPx(), 4));
         out += "\n";

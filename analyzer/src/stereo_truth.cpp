@@ -9,6 +9,7 @@
 
 #include "aar/error.h"
 #include "aar/lens.h"
+#include "aar/propeller.h"
 
 namespace aar {
 namespace {
@@ -53,6 +54,8 @@ double StereoTruthStats::RmsErrorPx() const {
 void StereoTruthStats::Add(const StereoTruthStats& o) {
   points += o.points;
   off_receiver += o.off_receiver;
+  on_propellers += o.on_propellers;
+  propellers_kept += o.propellers_kept;
   off_surface += o.off_surface;
   on_receiver += o.on_receiver;
   error_sum_px += o.error_sum_px;
@@ -63,10 +66,20 @@ void StereoTruthStats::Add(const StereoTruthStats& o) {
   }
 }
 
+bool OnPropellerBlade(const Eigen::Vector3d& point_in_receiver) {
+  constexpr double kSlabHalfWidthM = 0.12, kInnerRadiusM = 0.35, kOuterRadiusM = 0.5 * kPropellerDiameterM + 0.05;
+  for (const Eigen::Vector3d& hub : kPropellerHubsInReceiver) {
+    const Eigen::Vector3d d = point_in_receiver - hub;  // the axis is the receiver's x
+    const double radius = std::hypot(d.y(), d.z());
+    if (std::abs(d.x()) <= kSlabHalfWidthM && radius >= kInnerRadiusM && radius <= kOuterRadiusM) return true;
+  }
+  return false;
+}
+
 StereoTruthStats CompareWithTruth(const std::vector<Eigen::Vector3d>& pixels, const DepthTruth& truth,
                                   const StereoCalibration& calibration, const StereoTruthOptions& options,
                                   std::vector<Eigen::Vector3d>* true_points_in_rect_left,
-                                  std::vector<double>* true_disparity_px) {
+                                  std::vector<double>* true_disparity_px, std::vector<size_t>* on_propellers) {
   const Eigen::MatrixXd p1 = ToEigen(calibration.P1), r1 = ToEigen(calibration.R1), m1 = ToEigen(calibration.M1);
   const Eigen::MatrixXd q = ToEigen(calibration.Q);
   const double f = p1(0, 0), cx = p1(0, 2), cy = p1(1, 2), fy = p1(1, 1);
@@ -78,6 +91,8 @@ StereoTruthStats CompareWithTruth(const std::vector<Eigen::Vector3d>& pixels, co
   const auto id = [&](int x, int y) { return truth.ids.at<unsigned char>(y, x); };
   const auto depth = [&](int x, int y) { return static_cast<double>(truth.depth_m.at<float>(y, x)); };
 
+  std::optional<Eigen::Isometry3d> receiver_from_rect;
+  if (options.rect_left_from_receiver) receiver_from_rect = options.rect_left_from_receiver->inverse();
   StereoTruthStats stats;
   if (true_disparity_px != nullptr) true_disparity_px->assign(pixels.size(), std::numeric_limits<double>::quiet_NaN());
   for (size_t i = 0; i < pixels.size(); ++i) {
@@ -110,6 +125,10 @@ StereoTruthStats CompareWithTruth(const std::vector<Eigen::Vector3d>& pixels, co
     if (true_disparity_px != nullptr) (*true_disparity_px)[i] = d_true;
     const double error = pixel.z() - d_true;
     ++stats.on_receiver;
+    if (receiver_from_rect && OnPropellerBlade(*receiver_from_rect * point_in_rect)) {
+      ++stats.on_propellers;
+      if (on_propellers != nullptr) on_propellers->push_back(i);
+    }
     stats.error_sum_px += error;
     stats.error_squared_sum_px2 += error * error;
     const double fraction = d_true - std::floor(d_true);

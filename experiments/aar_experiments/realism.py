@@ -180,7 +180,8 @@ GROSS_DEG = 5.0  # an attitude error beyond this (any of roll, pitch, yaw) count
 def stage_results(rows):
     """The stages of the measured frames `rows` against the depth truth (frames.csv's truth_* columns): the
     disparity error of the sensed points on the receiver (mean and RMS, px), the fractions of sensed points off
-    the receiver and off its surface, sensed points per frame, and the signed mean error of x (m) and pitch (deg)."""
+    the receiver and off its surface, the fractions on the propeller blades and kept by the registration (the
+    propeller mask's leftover), sensed points per frame, and the signed mean error of x (m) and pitch (deg)."""
     if not rows:
         return None
     points = sum(r["truth_points"] for r in rows)
@@ -190,6 +191,8 @@ def stage_results(rows):
             "disparity_rms_px": (sum(r["truth_error_squared_sum_px2"] for r in rows) / on) ** 0.5 if on else None,
             "off_receiver": off_receiver / points if points else None,
             "off_surface": sum(r["truth_off_surface"] for r in rows) / points if points else None,
+            "on_propellers": sum(r["truth_on_propellers"] for r in rows) / points if points else None,
+            "propellers_kept": sum(r["truth_propellers_kept"] for r in rows) / points if points else None,
             "points_per_frame": sum(r["sensed_points"] for r in rows) / len(rows),
             "signed_x_m": sum(r["err_x_m"] for r in rows) / len(rows),
             "signed_pitch_deg": sum(r["err_pitch_deg"] for r in rows) / len(rows)}

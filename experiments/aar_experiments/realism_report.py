@@ -120,7 +120,7 @@ def _region_section(ctx, rep, results, region):
 
 
 STAGE_HEADERS = ("Disparity mean (px)", "Disparity RMS (px)", "Off receiver (%)", "Off surface (%)",
-                 "Points per frame", "Signed X (m)", "Signed pitch (deg)")
+                 "On propeller blades (%)", "Blades kept (%)", "Points per frame", "Signed X (m)", "Signed pitch (deg)")
 
 
 def _stage_cells(st):
@@ -128,7 +128,8 @@ def _stage_cells(st):
         return ["n/a"] * len(STAGE_HEADERS)
     pct = lambda v: "n/a" if v is None else f"{100.0 * v:.1f}"  # noqa: E731
     return [fmt(st["disparity_mean_px"], 4), fmt(st["disparity_rms_px"], 4), pct(st["off_receiver"]),
-            pct(st["off_surface"]), f"{st['points_per_frame']:.0f}", f"{st['signed_x_m']:+.3f}",
+            pct(st["off_surface"]), pct(st.get("on_propellers")), pct(st.get("propellers_kept")),
+            f"{st['points_per_frame']:.0f}", f"{st['signed_x_m']:+.3f}",
             f"{st['signed_pitch_deg']:+.3f}"]
 
 

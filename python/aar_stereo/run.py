@@ -12,7 +12,7 @@ from .formats import FrameSequence, parse_float, read_csv, read_json, read_ply, 
 
 # frames.csv's column types; every other column is a float (None where empty).
 INT_COLUMNS = frozenset({"frame", "sensed_points", "icp_iterations", "icp_inliers", "truth_points",
-                         "truth_off_receiver", "truth_off_surface"})
+                         "truth_off_receiver", "truth_off_surface", "truth_on_propellers", "truth_propellers_kept"})
 BOOL_COLUMNS = frozenset({"icp_converged"})
 TEXT_COLUMNS = frozenset({"region", "status"})
 FRACTION_COLUMN = "truth_error_by_fraction"  # "count/sum" pairs, space-separated
@@ -53,7 +53,8 @@ def _value(column, text, path, line):
 
 def read_frames_csv(path):
     """frames.csv as a list of dicts, one per row: ints (frame, sensed_points, icp_iterations, icp_inliers,
-    truth_points, truth_off_receiver, truth_off_surface), a bool (icp_converged), strings (region, status),
+    truth_points, truth_off_receiver, truth_off_surface, truth_on_propellers, truth_propellers_kept), a bool
+    (icp_converged), strings (region, status),
     truth_error_by_fraction as ((count, error sum px), ...), vsd_errors as a tuple of 10 floats, floats
     elsewhere, None for an empty field."""
     path = Path(path)

@@ -135,7 +135,7 @@ TEST(PoseStatistics, CsvRoundTripsAndPutsTimingLast) {
   EXPECT_EQ(read[0].sensed_points, 9003u);
 
   const std::vector<std::string> columns = SplitCsvLine(FrameResultsCsvHeader());
-  ASSERT_EQ(columns.size(), 57u);
+  ASSERT_EQ(columns.size(), 59u);
   EXPECT_EQ(columns[0], "frame");
   EXPECT_EQ(columns[27], "icp_inliers");
   EXPECT_EQ(columns[33], "truth_error_by_fraction");
@@ -143,8 +143,10 @@ TEST(PoseStatistics, CsvRoundTripsAndPutsTimingLast) {
   EXPECT_EQ(columns[45], "filt_err_yaw_deg");
   EXPECT_EQ(columns[46], "mssd_m");
   EXPECT_EQ(columns[49], "adds_m");
-  EXPECT_EQ(columns[50], "vsd_errors");  // `cut -d, -f1-51` keeps everything but timing
-  for (size_t i = 51; i < columns.size(); ++i) EXPECT_EQ(columns[i].rfind("ms_", 0), 0u) << columns[i];
+  EXPECT_EQ(columns[50], "vsd_errors");
+  EXPECT_EQ(columns[51], "truth_on_propellers");
+  EXPECT_EQ(columns[52], "truth_propellers_kept");  // `cut -d, -f1-53` keeps everything but timing
+  for (size_t i = 53; i < columns.size(); ++i) EXPECT_EQ(columns[i].rfind("ms_", 0), 0u) << columns[i];
   // A failed frame's estimate and error are empty fields.
   const std::string failed_line = text.substr(text.find("\n7,") + 1);
   EXPECT_NE(failed_line.find(",,,,,,,,,,,,"), std::string::npos) << failed_line;
@@ -162,7 +164,7 @@ TEST(PoseStatistics, CsvReaderReportsFileLineAndReason) {
   };
   expect_error("", "empty file");
   expect_error("frame,time\n", "shard0.csv:1: not a frame-results CSV");
-  expect_error(header + "1,2,3\n", "shard0.csv:2: expected 57 columns, found 3");
+  expect_error(header + "1,2,3\n", "shard0.csv:2: expected 59 columns, found 3");
   std::string line = FormatFrameResults({OkFrame(1, 35.0, SixDof{})});
   line = line.substr(line.find('\n') + 1);
   std::string bad = line;

@@ -159,6 +159,14 @@ TEST(PropellerPipeline, TheDefaultMasksTurningPropellers) {
                 unmasked[i].error[0]);
     EXPECT_GT(std::abs(unmasked[i].error[0]), 0.1);
     EXPECT_LT(std::abs(masked[i].error[0]), 0.6 * std::abs(unmasked[i].error[0]));
+    // The depth truth's count of the points on the blades (the same cloud both ways), and what each kept.
+    const StereoTruthStats &m = masked[i].stereo_truth, &u = unmasked[i].stereo_truth;
+    std::printf("frame %zu: %zu of %zu points on the blades; kept %zu masked, %zu unmasked\n", masked[i].frame,
+                u.on_propellers, u.points, m.propellers_kept, u.propellers_kept);
+    EXPECT_EQ(m.on_propellers, u.on_propellers);
+    EXPECT_GT(u.on_propellers, u.points / 100);
+    EXPECT_EQ(u.propellers_kept, u.on_propellers);
+    EXPECT_LT(m.propellers_kept, m.on_propellers / 10 + 1);
   }
 }
 

@@ -266,7 +266,7 @@ class RunTest(unittest.TestCase):
         with self.assertRaisesRegex(DataError, r"frames.csv: 1 rows, but run.json says 2 frames were analyzed"):
             aar_stereo.open_run(copied)
         (copied / "frames.csv").write_text("".join(lines).replace(",ok,", ",ok,,,", 1))
-        with self.assertRaisesRegex(DataError, r"frames.csv:2: 59 fields, the header has 57"):
+        with self.assertRaisesRegex(DataError, r"frames.csv:2: 61 fields, the header has 59"):
             aar_stereo.open_run(copied)
 
 

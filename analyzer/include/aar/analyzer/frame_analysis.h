@@ -241,6 +241,14 @@ class FrameAnalyzer {
   // The cloud against depth truth (r.stereo_truth); with
   // options.register_truth_cloud the cloud becomes the ideal one.
   void CompareCloudWithTruth(const DepthTruth& truth, SensedCloud& cloud, FrameResult& r) const;
+  // The depth-truth comparison's options for frame `r` (its true pose).
+  StereoTruthOptions TruthOptions(const FrameResult& r) const;
+  // After the registration: the cloud against depth truth again (its
+  // refined disparities, the dump's true disparities) and how many of its
+  // points on the propeller blades the registration kept (outside the
+  // propeller mask's discs at `icp`'s pose, or all without the mask).
+  void CountPropellersKept(const DepthTruth& truth, const SensedCloud& cloud, const RegistrationResult& icp,
+                           bool corrected, FrameResult& r, FrameDump* dump) const;
   // Rectify, match, re-project and register in `roi` (empty: the whole image).
   RegistrationResult Measure(const FrameInputs& in, const cv::Rect& roi, const std::optional<Pose>& seed,
                              FrameResult& r, FrameDump* dump) const;

@@ -13,10 +13,13 @@
 // nearest pixel.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <cstddef>
 #include <filesystem>
 #include <opencv2/core.hpp>
+#include <optional>
+#include <vector>
 
 #include "aar/stereo_calibration.h"
 
@@ -39,14 +42,28 @@ struct StereoTruthOptions {
   /// A point on the receiver whose disparity errs by more than this is off
   /// the surface [px] (at 35 m, 0.5 px is about 1.3 m of depth).
   double off_surface_px = 0.5;
+  /// The true pose: with it, the points on the receiver whose true point lies
+  /// on a propeller blade are counted (OnPropellerBlade).
+  std::optional<Eigen::Isometry3d> rect_left_from_receiver;
 };
+
+/// Whether a point of the receiver (receiver frame) lies where only the
+/// propeller blades are (common/include/aar/propeller.h, scenes/c12.cpp): in
+/// a slab of +-0.12 m about a disc's plane (the blades' own +-0.09 m and the
+/// depth truth's interpolation), between 0.35 m (beyond the spinner and the
+/// nacelle's cowling in that slab) and 1.30 m (the tip circle and 5 cm) from
+/// its axis. The receiver has no other surface there, so on a receiver
+/// without propellers nothing passes.
+bool OnPropellerBlade(const Eigen::Vector3d& point_in_receiver);
 
 /// Sums over the sensed points of one frame (or of many: Add).
 struct StereoTruthStats {
-  size_t points = 0;        ///< sensed points compared
-  size_t off_receiver = 0;  ///< points whose pixel is not on the receiver in the truth (halo, background)
-  size_t off_surface = 0;   ///< off_receiver plus receiver points beyond off_surface_px
-  size_t on_receiver = 0;   ///< points on the receiver (the disparity statistics use these)
+  size_t points = 0;           ///< sensed points compared
+  size_t off_receiver = 0;     ///< points whose pixel is not on the receiver in the truth (halo, background)
+  size_t off_surface = 0;      ///< off_receiver plus receiver points beyond off_surface_px
+  size_t on_receiver = 0;      ///< points on the receiver (the disparity statistics use these)
+  size_t on_propellers = 0;    ///< of on_receiver, points on a propeller blade (with the true pose)
+  size_t propellers_kept = 0;  ///< of on_propellers, points the registration kept (the propeller mask's leftover)
   double error_sum_px = 0.0;
   double error_squared_sum_px2 = 0.0;
   std::array<size_t, kFractionBins> bin_count{};
@@ -66,9 +83,12 @@ struct StereoTruthStats {
 /// same pixels, which isolates registration from stereo error. With
 /// `true_disparity_px`, also the true disparity of every pixel (NaN where
 /// the pixel is not on the receiver), one per pixel.
+/// With `on_propellers`, also the indices of the pixels counted in
+/// on_propellers, ascending.
 StereoTruthStats CompareWithTruth(const std::vector<Eigen::Vector3d>& pixels, const DepthTruth& truth,
                                   const StereoCalibration& calibration, const StereoTruthOptions& options = {},
                                   std::vector<Eigen::Vector3d>* true_points_in_rect_left = nullptr,
-                                  std::vector<double>* true_disparity_px = nullptr);
+                                  std::vector<double>* true_disparity_px = nullptr,
+                                  std::vector<size_t>* on_propellers = nullptr);
 
 }  // namespace aar
