@@ -243,36 +243,11 @@ nlohmann::json SummaryToJson(const Summary& summary) {
   return {{"schema", "aar-summary/1"}, {"models", models}, {"timing", timing}};
 }
 
-std::string SummaryToMarkdown(const Summary& summary) {
-  const std::vector<std::string> bins = {"20-60", "60-110"};
-  const std::vector<std::string> regions = {"A", "B", "C"};
+namespace {
+
+// summary.md's depth-truth table (datasets rendered with --depth only).
+std::string TruthTable(const Summary& summary, const std::vector<std::string>& regions) {
   std::string out;
-  out += std::string("## Mean absolute 6DOF error by range (Table 1 layout)\n\n") +
-         DofTable(summary, bins, "Range", false) + "\n";
-  out += std::string("## RMS 6DOF error by range (Table 2 layout)\n\n") + DofTable(summary, bins, "Range", true) + "\n";
-  out += std::string("## Mean absolute 6DOF error by region (Table 4 layout)\n\n") +
-         DofTable(summary, regions, "Region", false) + "\n";
-  out += std::string("## RMS 6DOF error by region (Table 5 layout)\n\n") + DofTable(summary, regions, "Region", true) +
-         "\n";
-  out +=
-      "## Every frame (mean absolute error of every frame with an estimate, measured or rejected)\n\n"
-      "| Region | Model | X (m) | Y (m) | Z (m) | Roll (deg) | Pitch (deg) | Yaw (deg) | Frames (estimated/all) |\n"
-      "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
-  for (const std::string& group : regions) {
-    for (const ModelSummary& m : summary.models) {
-      const GroupStats* g = FindGroup(m, group);
-      if (g == nullptr) continue;
-      out += "|";
-      AppendCell(out, group);
-      AppendCell(out, DisplayName(m.model));
-      for (size_t d = 0; d < 6; ++d) {
-        AppendCell(out, g->with_estimate == 0 ? std::string("n/a") : FormatFixed(g->mean_abs_error_all[d], 3));
-      }
-      AppendCell(out, std::to_string(g->with_estimate) + "/" + std::to_string(g->frames));
-      out += "\n";
-    }
-  }
-  out += "\n";
   bool any_truth = false, any_blades = false;
   for (const ModelSummary& m : summary.models) {
     for (const GroupStats& g : m.groups) {
@@ -311,6 +286,12 @@ std::string SummaryToMarkdown(const Summary& summary) {
     }
     out += "\n";
   }
+  return out;
+}
+
+// summary.md's temporal filter table.
+std::string FilterTable(const Summary& summary, const std::vector<std::string>& regions) {
+  std::string out;
   out +=
       "## The temporal filter by region (mean absolute error; jitter: RMS change of the error from one analyzed frame "
       "to the next)\n\n"
@@ -337,6 +318,12 @@ std::string SummaryToMarkdown(const Summary& summary) {
     }
   }
   out += "\n";
+  return out;
+}
+
+// summary.md's BOP table (runs with BOP scores only).
+std::string BopTable(const Summary& summary) {
+  std::string out;
   bool any_bop = false, any_vsd = false;
   for (const ModelSummary& m : summary.models) {
     for (const GroupStats& g : m.groups) {
@@ -371,6 +358,44 @@ std::string SummaryToMarkdown(const Summary& summary) {
     }
     out += "\n";
   }
+  return out;
+}
+
+}  // namespace
+
+std::string SummaryToMarkdown(const Summary& summary) {
+  const std::vector<std::string> bins = {"20-60", "60-110"};
+  const std::vector<std::string> regions = {"A", "B", "C"};
+  std::string out;
+  out += std::string("## Mean absolute 6DOF error by range (Table 1 layout)\n\n") +
+         DofTable(summary, bins, "Range", false) + "\n";
+  out += std::string("## RMS 6DOF error by range (Table 2 layout)\n\n") + DofTable(summary, bins, "Range", true) + "\n";
+  out += std::string("## Mean absolute 6DOF error by region (Table 4 layout)\n\n") +
+         DofTable(summary, regions, "Region", false) + "\n";
+  out += std::string("## RMS 6DOF error by region (Table 5 layout)\n\n") + DofTable(summary, regions, "Region", true) +
+         "\n";
+  out +=
+      "## Every frame (mean absolute error of every frame with an estimate, measured or rejected)\n\n"
+      "| Region | Model | X (m) | Y (m) | Z (m) | Roll (deg) | Pitch (deg) | Yaw (deg) | Frames (estimated/all) |\n"
+      "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const std::string& group : regions) {
+    for (const ModelSummary& m : summary.models) {
+      const GroupStats* g = FindGroup(m, group);
+      if (g == nullptr) continue;
+      out += "|";
+      AppendCell(out, group);
+      AppendCell(out, DisplayName(m.model));
+      for (size_t d = 0; d < 6; ++d) {
+        AppendCell(out, g->with_estimate == 0 ? std::string("n/a") : FormatFixed(g->mean_abs_error_all[d], 3));
+      }
+      AppendCell(out, std::to_string(g->with_estimate) + "/" + std::to_string(g->frames));
+      out += "\n";
+    }
+  }
+  out += "\n";
+  out += TruthTable(summary, regions);
+  out += FilterTable(summary, regions);
+  out += BopTable(summary);
   out +=
       "## ICP execution time by range (Table 3 layout; machine-dependent)\n\n"
       "| Range | Model | Average ICP time (ms) | Standard deviation (ms) | Frames (ok) |\n"
