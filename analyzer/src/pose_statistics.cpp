@@ -28,6 +28,18 @@ bool InGroup(const FrameResult& f, const std::string& group) {
   return RangeBinForRange(f.range_m) == group;
 }
 
+// The squared changes of the error from `previous` to `f`, per frame and filtered.
+void AddJitter(GroupStats& g, const FrameResult& f, const FrameResult& previous) {
+  for (size_t d = 0; d < 6; ++d) {
+    const double change = f.error[d] - previous.error[d];
+    g.jitter_rms[d] += change * change;
+    if (f.filtered && previous.filtered) {
+      const double filtered_change = f.filtered_error[d] - previous.filtered_error[d];
+      g.filtered_jitter_rms[d] += filtered_change * filtered_change;
+    }
+  }
+}
+
 GroupStats Aggregate(const std::vector<FrameResult>& frames, const std::string& group,
                      const std::optional<BopScale>& bop) {
   GroupStats g;
@@ -65,14 +77,7 @@ GroupStats Aggregate(const std::vector<FrameResult>& frames, const std::string& 
     if (i > 0 && frames[i - 1].ok()) {
       const FrameResult& previous = frames[i - 1];
       ++g.jitter_pairs;
-      for (size_t d = 0; d < 6; ++d) {
-        const double change = f.error[d] - previous.error[d];
-        g.jitter_rms[d] += change * change;
-        if (f.filtered && previous.filtered) {
-          const double filtered_change = f.filtered_error[d] - previous.filtered_error[d];
-          g.filtered_jitter_rms[d] += filtered_change * filtered_change;
-        }
-      }
+      AddJitter(g, f, previous);
     }
     g.sensed_points_mean += static_cast<double>(f.sensed_points);
     g.icp_iterations_mean += f.icp_iterations;
