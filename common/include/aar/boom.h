@@ -1,5 +1,5 @@
 #pragma once
-// The tanker's flying boom (issue 9, item 2; docs/scenes.md, "Boom"): its
+// The tanker's flying boom (docs/scenes.md, "Boom"): its
 // dimensions, where it is hinged under the tanker's tail, and its pose from
 // the boom operator's three controls (flight-path columns boom_pitch_deg,
 // boom_roll_deg, boom_extension_m; docs/dataset-format.md).

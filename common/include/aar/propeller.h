@@ -1,5 +1,5 @@
 #pragma once
-// The receiver's propellers (issue 9, item 5; docs/scenes.md, "Propellers"):
+// The receiver's propellers (docs/scenes.md, "Propellers"):
 // where the C-12's two four-blade propellers turn and how fast.
 //
 // Propeller frame: origin at the hub, in the plane of the blades; its x axis

@@ -1,6 +1,6 @@
 #pragma once
-// Removing the tanker's boom from the stereo match (issue 9, item 2;
-// docs/analysis.md, "The boom"). The tanker knows its boom's angles and
+// Removing the tanker's boom from the stereo match (docs/analysis.md,
+// "The boom"). The tanker knows its boom's angles and
 // extension (the sidecar's `boom`, its own telemetry), the boom's shape (the
 // dataset's boom.glb and boom_tube.glb) and its rig, so it can draw where the
 // boom is in each rectified image without looking at them: the boom's

@@ -1,6 +1,6 @@
 #pragma once
-// Removing the receiver's propeller discs from a sensed cloud (issue 9,
-// item 5; docs/analysis.md, "Propellers"). A spinning propeller is a blurred
+// Removing the receiver's propeller discs from a sensed cloud
+// (docs/analysis.md, "Propellers"). A spinning propeller is a blurred
 // disc in front of the wings and engines: its points belong to no surface of
 // the reference model, and there are so many of them that the robust kernel
 // does not reject them. The tanker knows the receiver's type, so it knows
