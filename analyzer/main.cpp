@@ -409,11 +409,9 @@ int RunExport(int argc, char** argv) {
   app.add_option("--format", format, formats)->required();
   app.add_option("--out", options.out, "output folder (created)")->required();
   app.add_option("--frames", frames, "half-open range a:b of frame indices (default: all)");
-  std::string takes_run;
-  for (const aar::Exporter& e : aar::Exporters()) {
-    if (e.takes_run) takes_run += std::string(takes_run.empty() ? "" : ", ") + e.format;
-  }
-  app.add_option("--run", run, takes_run + ": an `aar-analyze run` folder of this dataset; writes its estimates too");
+  app.add_option(
+      "--run", run,
+      aar::ExporterFormats(true) + ": an `aar-analyze run` folder of this dataset; writes its estimates too");
   if (const auto code = Parse(app, argc, argv)) return *code;
   const aar::Exporter& exporter = aar::FindExporter(format);
   options.selection = aar::ParseFrameSelection(frames, "0/1");  // one output: never sharded by Slurm variables

@@ -362,7 +362,8 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   Progress progress("analyze " + reference.name, in.selected.size());
   TrackHistory history;
   const std::set<size_t> dump_frames(options.dump_frames.begin(), options.dump_frames.end());
-  const DumpProjection projection = DumpProjectionOf(calibration.calibration, rig, reference);
+  const DumpProjection projection =
+      dump_frames.empty() ? DumpProjection{} : DumpProjectionOf(calibration.calibration, rig, reference);
   for (size_t index : in.selected) {
     FrameDump dump;
     const bool dumped = options.write_outputs && dump_frames.contains(index);

@@ -23,27 +23,30 @@ const std::vector<Exporter>& Exporters() {
   return exporters;
 }
 
-const Exporter& FindExporter(const std::string& format) {
-  std::string names;
-  const std::vector<Exporter>& exporters = Exporters();
-  for (size_t i = 0; i < exporters.size(); ++i) {
-    if (format == exporters[i].format) return exporters[i];
-    names += std::string(i == 0 ? "" : i + 1 == exporters.size() ? " or " : ", ") + exporters[i].format;
+std::string ExporterFormats(bool taking_run_only) {
+  std::vector<const char*> formats;
+  for (const Exporter& e : Exporters()) {
+    if (e.takes_run || !taking_run_only) formats.push_back(e.format);
   }
-  throw Error("--format '" + format + "': expected " + names);
+  std::string list;
+  for (size_t i = 0; i < formats.size(); ++i) {
+    list += std::string(i == 0 ? "" : i + 1 == formats.size() ? " or " : ", ") + formats[i];
+  }
+  return list;
+}
+
+const Exporter& FindExporter(const std::string& format) {
+  for (const Exporter& e : Exporters()) {
+    if (format == e.format) return e;
+  }
+  throw Error("--format '" + format + "': expected " + ExporterFormats(false));
 }
 
 ExportResult ExportDataset(const Exporter& exporter, const ExportOptions& options) {
   if (options.out.empty()) throw Error("export: no output folder given (--out)");
   CheckOutputFolder(options.out);
   if (options.run) {
-    if (!exporter.takes_run) {
-      std::string takes;
-      for (const Exporter& e : Exporters()) {
-        if (e.takes_run) takes += std::string(takes.empty() ? "" : " or ") + e.format;
-      }
-      throw Error("--run: only with --format " + takes);
-    }
+    if (!exporter.takes_run) throw Error("--run: only with --format " + ExporterFormats(true));
     std::error_code ec;
     const std::filesystem::path run = std::filesystem::weakly_canonical(*options.run, ec);
     const std::filesystem::path out = std::filesystem::weakly_canonical(options.out, ec);

@@ -210,10 +210,11 @@ StereoTruthOptions FrameAnalyzer::TruthOptions(const FrameResult& r) const {
   return options;
 }
 
-void FrameAnalyzer::CompareCloudWithTruth(const DepthTruth& truth, SensedCloud& cloud, FrameResult& r) const {
+void FrameAnalyzer::CompareCloudWithTruth(const DepthTruth& truth, SensedCloud& cloud, FrameResult& r,
+                                          std::vector<size_t>& blades) const {
   std::vector<Eigen::Vector3d> ideal;
   r.stereo_truth = CompareWithTruth(cloud.pixels, truth, calibration_, TruthOptions(r),
-                                    options_.register_truth_cloud ? &ideal : nullptr);
+                                    options_.register_truth_cloud ? &ideal : nullptr, nullptr, &blades);
   if (!options_.register_truth_cloud) return;
   cloud.points_in_tanker.clear();
   RandomStream noise(0x9E3779B97F4A7C15ull * (r.frame + 1));
@@ -226,23 +227,14 @@ void FrameAnalyzer::CompareCloudWithTruth(const DepthTruth& truth, SensedCloud& 
   }
 }
 
-void FrameAnalyzer::CountPropellersKept(const DepthTruth& truth, const SensedCloud& cloud,
-                                        const RegistrationResult& icp, bool corrected, FrameResult& r,
-                                        FrameDump* dump) const {
-  std::vector<size_t> blades;
-  if (corrected || dump != nullptr || !options_.register_truth_cloud) {
-    r.stereo_truth = CompareWithTruth(cloud.pixels, truth, calibration_, TruthOptions(r), nullptr,
-                                      dump != nullptr ? &dump->true_disparity_px : nullptr, &blades);
-  }
-  if (options_.register_truth_cloud) return;  // the cloud is the ideal one, not the sensed pixels'
+size_t FrameAnalyzer::PropellersKept(const SensedCloud& cloud, const std::vector<size_t>& blades,
+                                     const RegistrationResult& icp) const {
   std::vector<Eigen::Vector3d> on_blades;
   for (size_t i : blades) on_blades.push_back(cloud.points_in_tanker[i]);
-  r.stereo_truth.propellers_kept =
-      options_.mask_propellers
-          ? OutsidePropellerDiscs(on_blades, icp.tanker_from_receiver, tanker_from_rect_left_.translation(),
-                                  options_.propeller_mask, options_.propeller_mask.axial_half_width_m)
-                .size()
-          : on_blades.size();
+  if (!options_.mask_propellers) return on_blades.size();
+  return OutsidePropellerDiscs(on_blades, icp.tanker_from_receiver, tanker_from_rect_left_.translation(),
+                               options_.propeller_mask, options_.propeller_mask.axial_half_width_m)
+      .size();
 }
 
 RegistrationResult FrameAnalyzer::Measure(const FrameInputs& in, const cv::Rect& roi, const std::optional<Pose>& seed,
@@ -285,7 +277,8 @@ RegistrationResult FrameAnalyzer::Measure(const FrameInputs& in, const cv::Rect&
       throw Error(in.left_path + ": only " + std::to_string(cloud.points_in_tanker.size()) +
                   " sensed points (receiver out of view?)");
     }
-    if (in.truth) CompareCloudWithTruth(*in.truth, cloud, r);
+    std::vector<size_t> blades;  // the sensed points on the propeller blades (depth truth)
+    if (in.truth) CompareCloudWithTruth(*in.truth, cloud, r, blades);
 
     if (dump != nullptr) dump->sensed_in_tanker = cloud.points_in_tanker;
 
@@ -300,8 +293,13 @@ RegistrationResult FrameAnalyzer::Measure(const FrameInputs& in, const cv::Rect&
       dump->pixels = cloud.pixels;
       dump->true_disparity_px.clear();
     }
-    if (in.truth) CountPropellersKept(*in.truth, cloud, icp, corrected, r, dump);
     r.times.icp_ms += MillisecondsSince(start);
+    if (in.truth && (corrected || dump != nullptr)) {
+      r.stereo_truth = CompareWithTruth(cloud.pixels, *in.truth, calibration_, TruthOptions(r), nullptr,
+                                        dump != nullptr ? &dump->true_disparity_px : nullptr);
+    }
+    // The ideal cloud (register_truth_cloud) is not the sensed pixels'.
+    if (in.truth && !options_.register_truth_cloud) r.stereo_truth.propellers_kept = PropellersKept(cloud, blades, icp);
     // Near frames: part of the receiver beyond the search gives no (or
     // wrong) disparities; search again up to what the estimate needs.
     const double needed_px = ModelMaxDisparityPx(icp.tanker_from_receiver);

@@ -22,6 +22,10 @@ struct Exporter {
 /// Every exporter, in the order --help lists them.
 const std::vector<Exporter>& Exporters();
 
+/// The formats ("bop, middlebury, tum, ros or rosbag"), or those of the
+/// exporters that take --run only.
+std::string ExporterFormats(bool taking_run_only);
+
 /// The exporter of `format`; throws aar::Error listing the formats otherwise.
 const Exporter& FindExporter(const std::string& format);
 

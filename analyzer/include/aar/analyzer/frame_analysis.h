@@ -238,17 +238,18 @@ class FrameAnalyzer {
   DisparityMap Match(const cv::Mat& rect_left, const cv::Mat& rect_right, const cv::Rect& region,
                      const DisparityOptions& disparity_options, const BoomMasks* boom, FrameResult& r,
                      FrameDump* dump) const;
-  // The cloud against depth truth (r.stereo_truth); with
+  // The cloud against depth truth (r.stereo_truth) and the indices of its
+  // points on the propeller blades (`blades`); with
   // options.register_truth_cloud the cloud becomes the ideal one.
-  void CompareCloudWithTruth(const DepthTruth& truth, SensedCloud& cloud, FrameResult& r) const;
+  void CompareCloudWithTruth(const DepthTruth& truth, SensedCloud& cloud, FrameResult& r,
+                             std::vector<size_t>& blades) const;
   // The depth-truth comparison's options for frame `r` (its true pose).
   StereoTruthOptions TruthOptions(const FrameResult& r) const;
-  // After the registration: the cloud against depth truth again (its
-  // refined disparities, the dump's true disparities) and how many of its
-  // points on the propeller blades the registration kept (outside the
-  // propeller mask's discs at `icp`'s pose, or all without the mask).
-  void CountPropellersKept(const DepthTruth& truth, const SensedCloud& cloud, const RegistrationResult& icp,
-                           bool corrected, FrameResult& r, FrameDump* dump) const;
+  // How many of the cloud's points on the propeller blades the registration
+  // kept: outside the propeller mask's discs at `icp`'s pose, or all of them
+  // without the mask.
+  size_t PropellersKept(const SensedCloud& cloud, const std::vector<size_t>& blades,
+                        const RegistrationResult& icp) const;
   // Rectify, match, re-project and register in `roi` (empty: the whole image).
   RegistrationResult Measure(const FrameInputs& in, const cv::Rect& roi, const std::optional<Pose>& seed,
                              FrameResult& r, FrameDump* dump) const;
