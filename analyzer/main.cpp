@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "aar/analyzer/analysis_run.h"
+#include "aar/analyzer/bench_yardstick.h"
 #include "aar/analyzer/dataset_export.h"
 #include "aar/analyzer/mesh.h"
 #include "aar/analyzer/ply.h"
@@ -273,8 +274,8 @@ double Median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-void PrintStageMedians(const std::vector<aar::FrameResult>& frames) {
-  std::vector<double> load, rectify, disparity, reproject, icp, total;
+void PrintStageMedians(const std::vector<aar::FrameResult>& frames, const std::optional<double>& yardstick_ms) {
+  std::vector<double> load, rectify, disparity, reproject, icp, total, compute;
   for (const aar::FrameResult& f : frames) {
     if (!f.ok()) continue;
     load.push_back(f.times.load_ms);
@@ -283,16 +284,21 @@ void PrintStageMedians(const std::vector<aar::FrameResult>& frames) {
     reproject.push_back(f.times.reproject_ms);
     icp.push_back(f.times.icp_ms);
     total.push_back(f.times.total_ms);
+    compute.push_back(f.times.total_ms - f.times.load_ms);
   }
   std::printf(
       "| frames | load ms | rectify ms | disparity ms | reproject ms | ICP ms | total ms | total - load ms |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
-  std::vector<double> compute;
-  for (const aar::FrameResult& f : frames) {
-    if (f.ok()) compute.push_back(f.times.total_ms - f.times.load_ms);
-  }
   std::printf("| %zu | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f |\n", total.size(), Median(load), Median(rectify),
               Median(disparity), Median(reproject), Median(icp), Median(total), Median(compute));
+  if (!yardstick_ms) return;
+  // The speed targets are in the reference yardstick's milliseconds (docs/performance.md).
+  const double scale = aar::kReferenceYardstickMs / *yardstick_ms;
+  std::printf(
+      "\nyardstick: OpenCV StereoBM (48 disparities, block 9, speckle filter) on the whole rectified pair %.1f ms;\n"
+      "in reference ms (x %.1f / %.1f): decoded to pose %.1f, with decode %.1f, ICP %.1f\n",
+      *yardstick_ms, aar::kReferenceYardstickMs, *yardstick_ms, scale * Median(compute), scale * Median(total),
+      scale * Median(icp));
 }
 
 // Parses `app` from argv (argv[0] = the subcommand); returns the exit code
@@ -371,13 +377,14 @@ int RunRunOrBench(int argc, char** argv, bool bench) {
   if (bench) {
     flags.options.write_outputs = false;
     flags.options.frame.compare_with_truth = false;  // time the pipeline, not the measurement
+    flags.options.yardstick_frames = 20;
   }
   const aar::AnalysisRunResult result = aar::RunAnalysis(flags.options);
   const size_t failed =
       std::count_if(result.frames.begin(), result.frames.end(), [](const aar::FrameResult& r) { return !r.ok(); });
   std::fprintf(stderr, "%zu frames analyzed, %zu not measured%s%s\n", result.frames.size(), failed,
                bench ? "" : "; results in ", bench ? "" : flags.options.out.c_str());
-  if (bench) PrintStageMedians(result.frames);
+  if (bench) PrintStageMedians(result.frames, result.yardstick_ms);
   return 0;
 }
 

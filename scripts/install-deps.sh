@@ -9,7 +9,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-tools glslang-tools
   libglm-dev libtinygltf-dev nlohmann-json3-dev
   libopenimageio-dev openimageio-tools
-  libopencv-dev libeigen3-dev
+  libopencv-dev libeigen3-dev libpng-dev
   libcli11-dev libnanoflann-dev libgtest-dev libgmock-dev libssl-dev
   python3 python3-matplotlib python3-imath
   python3-numpy python3-pil python3-openimageio python3-opencv

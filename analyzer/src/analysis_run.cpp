@@ -7,6 +7,7 @@
 #include <set>
 #include <utility>
 
+#include "aar/analyzer/bench_yardstick.h"
 #include "aar/analyzer/bop_metrics.h"
 #include "aar/analyzer/mesh.h"
 #include "aar/analyzer/ply.h"
@@ -364,6 +365,10 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   const std::set<size_t> dump_frames(options.dump_frames.begin(), options.dump_frames.end());
   const DumpProjection projection =
       dump_frames.empty() ? DumpProjection{} : DumpProjectionOf(calibration.calibration, rig, reference);
+  const Rectifier whole_rectifier(calibration.calibration);  // the yardstick's
+  const size_t yardstick_stride =
+      std::max<size_t>(1, in.selected.size() / std::max<size_t>(1, options.yardstick_frames));
+  std::vector<double> yardstick;  // [ms]
   for (size_t index : in.selected) {
     FrameDump dump;
     const bool dumped = options.write_outputs && dump_frames.contains(index);
@@ -384,11 +389,20 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
       history = TrackHistory{};
       if (options.progress) std::fprintf(stderr, "frame %zu not measured: %s\n", index, frame.status.c_str());
     }
+    // Timed between the frames, spread over the run, so that it sees the machine's load as they do.
+    if (options.yardstick_frames > 0 && frame.ok() && result.frames.size() % yardstick_stride == 0) {
+      yardstick.push_back(TimeStereoBmYardstick(options.dataset, in.manifest, whole_rectifier, index));
+    }
     ScoreFrame(frame, depth, bop_object, mesh, rig);
     result.frames.push_back(std::move(frame));
     if (options.progress) progress.Advance();
   }
   if (options.progress) progress.Finish();
+  if (!yardstick.empty()) {
+    const auto middle = yardstick.begin() + static_cast<std::ptrdiff_t>(yardstick.size() / 2);
+    std::nth_element(yardstick.begin(), middle, yardstick.end());
+    result.yardstick_ms = *middle;
+  }
   FilterFrameResults(result.frames, options.filter);
   result.summary = SummarizeFrames(reference.name, result.frames, BopScaleOf(run));
   if (options.write_outputs) {

@@ -1,5 +1,7 @@
 #include "aar/analyzer/disparity.h"
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -71,10 +73,51 @@ cv::Mat ToGrayscale(const cv::Mat& image, const std::string& name) {
   }
 }
 
+namespace {
+constexpr int kSourceBlock = 32;  // [map pixels]
+}  // namespace
+
+Rectifier::SourceBlocks Rectifier::BlocksOf(const cv::Mat& map1, cv::Size image_size) {
+  SourceBlocks blocks;
+  blocks.block_columns = (map1.cols + kSourceBlock - 1) / kSourceBlock;
+  const int block_rows = (map1.rows + kSourceBlock - 1) / kSourceBlock;
+  const cv::Rect image(0, 0, image_size.width, image_size.height);
+  for (int by = 0; by < block_rows; ++by) {
+    for (int bx = 0; bx < blocks.block_columns; ++bx) {
+      int x0 = INT32_MAX, y0 = INT32_MAX, x1 = INT32_MIN, y1 = INT32_MIN;
+      for (int y = by * kSourceBlock; y < std::min(map1.rows, (by + 1) * kSourceBlock); ++y) {
+        const cv::Vec2s* row = map1.ptr<cv::Vec2s>(y);
+        for (int x = bx * kSourceBlock; x < std::min(map1.cols, (bx + 1) * kSourceBlock); ++x) {
+          x0 = std::min<int>(x0, row[x][0]);
+          x1 = std::max<int>(x1, row[x][0]);
+          y0 = std::min<int>(y0, row[x][1]);
+          y1 = std::max<int>(y1, row[x][1]);
+        }
+      }
+      // Bilinear sampling reads (x, y) to (x + 1, y + 1).
+      blocks.reads.push_back(cv::Rect(cv::Point(x0, y0), cv::Point(x1 + 2, y1 + 2)) & image);
+    }
+  }
+  return blocks;
+}
+
+cv::Rect Rectifier::SourceBlocks::Needed(const cv::Rect& region) const {
+  cv::Rect needed;
+  for (int by = region.y / kSourceBlock; by <= (region.br().y - 1) / kSourceBlock; ++by) {
+    for (int bx = region.x / kSourceBlock; bx <= (region.br().x - 1) / kSourceBlock; ++bx) {
+      const cv::Rect& reads = this->reads[static_cast<size_t>(by * block_columns + bx)];
+      needed = needed.area() > 0 ? needed | reads : reads;
+    }
+  }
+  return needed;
+}
+
 Rectifier::Rectifier(const StereoCalibration& c) : image_size_(c.image_size) {
   if (image_size_.width <= 0 || image_size_.height <= 0) throw Error("rectifier: calibration has no image size");
   cv::initUndistortRectifyMap(c.M1, c.D1, c.R1, c.P1, image_size_, CV_16SC2, left_map1_, left_map2_);
   cv::initUndistortRectifyMap(c.M2, c.D2, c.R2, c.P2, image_size_, CV_16SC2, right_map1_, right_map2_);
+  left_blocks_ = BlocksOf(left_map1_, image_size_);
+  right_blocks_ = BlocksOf(right_map1_, image_size_);
 }
 
 void Rectifier::Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& rect_left_gray,
@@ -91,8 +134,24 @@ void Rectifier::Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& rect
   }
   const cv::Rect all(0, 0, image_size_.width, image_size_.height);
   const cv::Rect r = region.area() > 0 ? region & all : all;
-  cv::remap(ToGrayscale(left), rect_left_gray, left_map1_(r), left_map2_(r), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
-  cv::remap(ToGrayscale(right), rect_right_gray, right_map1_(r), right_map2_(r), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  // A colour input is converted to grey where the region's maps read it
+  // only (the rest of the grey image is allocated, never read).
+  const auto grey_where_read = [&](const cv::Mat& image, const SourceBlocks& blocks) {
+    if (r == all || image.depth() != CV_8U || (image.channels() != 3 && image.channels() != 4)) {
+      return ToGrayscale(image);
+    }
+    cv::Mat grey(image.size(), CV_8UC1);
+    const cv::Rect needed = blocks.Needed(r);
+    if (needed.area() > 0) {
+      cv::Mat part = grey(needed);  // written in place: cvtColor keeps a destination of the right size and type
+      cv::cvtColor(image(needed), part, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+    }
+    return grey;
+  };
+  cv::remap(grey_where_read(left, left_blocks_), rect_left_gray, left_map1_(r), left_map2_(r), cv::INTER_LINEAR,
+            cv::BORDER_CONSTANT);
+  cv::remap(grey_where_read(right, right_blocks_), rect_right_gray, right_map1_(r), right_map2_(r), cv::INTER_LINEAR,
+            cv::BORDER_CONSTANT);
 }
 
 DisparityMap ComputeDisparity(const cv::Mat& rect_left_gray, const cv::Mat& rect_right_gray,

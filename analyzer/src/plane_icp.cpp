@@ -68,11 +68,17 @@ MetricSearch BuildMetricSearch(const std::vector<Eigen::Vector3d>& surface,
   search.camera_from_receiver = search.camera_from_tanker * tanker_from_receiver;
   search.lateral_scale = g.focal_px / std::max(o.lateral_noise_px, 1e-9);
   search.disparity_scale = g.focal_times_baseline_px_m / std::max(o.disparity_noise_px, 1e-9);
+  // A point faces the camera when its normal points towards the camera's
+  // centre: tested in the receiver's frame, so that only the facing half of
+  // the surface is transformed.
+  const Eigen::Vector3d camera_in_receiver = search.camera_from_receiver.inverse().translation();
   std::vector<Eigen::Vector3d> points;
+  points.reserve(surface.size());
+  search.index.reserve(surface.size());
   for (size_t j = 0; j < surface.size(); ++j) {
-    const Eigen::Vector3d c = search.camera_from_receiver * surface[j];
+    if (!(surface_normals[j].dot(surface[j] - camera_in_receiver) < 0.0)) continue;
     Eigen::Vector3d mapped;
-    if ((search.camera_from_receiver.linear() * surface_normals[j]).dot(c) < 0.0 && search.MapFromCamera(c, mapped)) {
+    if (search.MapFromCamera(search.camera_from_receiver * surface[j], mapped)) {
       search.index.push_back(static_cast<uint32_t>(j));
       points.push_back(mapped);
     }

@@ -172,5 +172,30 @@ TEST(Disparity, IdealRectificationIsTheIdentity) {
   EXPECT_THROW(rectifier.Rectify(small, small, rect_left, rect_right), Error);
 }
 
+TEST(Disparity, ARegionsRectificationIsTheWholeImagesCrop) {
+  // A distorted, rotated rectification: the region converts to grey only the
+  // part of the colour inputs its maps read, and must give the whole
+  // rectification's pixels exactly.
+  const StereoRig rig = LoadRig(std::filesystem::path(AAR_SOURCE_DIR) / "scenes" / "rig-distorted.json");
+  const StereoCalibration c = IdealCalibration(rig);
+  cv::Mat left, right;
+  TexturedPair(c.image_size.width, c.image_size.height, 3.0, 7, left, right);
+  cv::Mat left_bgr, right_bgr;
+  cv::cvtColor(left, left_bgr, cv::COLOR_GRAY2BGR);
+  cv::cvtColor(right, right_bgr, cv::COLOR_GRAY2BGR);
+  left_bgr.forEach<cv::Vec3b>([](cv::Vec3b& p, const int* at) { p[0] = static_cast<uint8_t>(p[0] ^ (at[1] & 31)); });
+  const Rectifier rectifier(c);
+  cv::Mat whole_left, whole_right;
+  rectifier.Rectify(left_bgr, right_bgr, whole_left, whole_right);
+  for (const cv::Rect region : {cv::Rect(0, 0, 100, 80), cv::Rect(300, 200, 333, 171),
+                                cv::Rect(c.image_size.width - 90, c.image_size.height - 50, 90, 50)}) {
+    cv::Mat rect_left, rect_right;
+    rectifier.Rectify(left_bgr, right_bgr, rect_left, rect_right, region);
+    ASSERT_EQ(rect_left.size(), region.size());
+    EXPECT_EQ(cv::norm(rect_left, whole_left(region), cv::NORM_INF), 0.0) << region;
+    EXPECT_EQ(cv::norm(rect_right, whole_right(region), cv::NORM_INF), 0.0) << region;
+  }
+}
+
 }  // namespace
 }  // namespace aar

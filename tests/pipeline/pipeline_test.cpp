@@ -256,6 +256,30 @@ TEST(Pipeline, NoisyIdealCloudIsSeededAndRecorded) {
   EXPECT_EQ(moved, noisy.size());
 }
 
+TEST(Pipeline, BenchTimesTheStagesAndTheYardstick) {
+  ASSERT_DATASETS();
+  const std::filesystem::path dataset = SharedDatasets().near_contact;
+  const test::CommandResult bench = test::RunAnalyze("bench " + test::Quote(dataset) + " --track --seed previous");
+  ASSERT_EQ(bench.exit_code, 0) << bench.output;
+  EXPECT_NE(bench.output.find("| " + std::to_string(test::kNearContactFrames) + " | "), std::string::npos)
+      << bench.output;
+  // The yardstick, and the pipeline's times in its reference milliseconds.
+  double yardstick = 0.0, to_pose = 0.0, with_decode = 0.0, icp = 0.0;
+  const size_t at = bench.output.find("whole rectified pair ");
+  ASSERT_NE(at, std::string::npos) << bench.output;
+  ASSERT_EQ(std::sscanf(bench.output.c_str() + at, "whole rectified pair %lf ms", &yardstick), 1) << bench.output;
+  const size_t in_reference = bench.output.find("): decoded to pose ");
+  ASSERT_NE(in_reference, std::string::npos) << bench.output;
+  ASSERT_EQ(std::sscanf(bench.output.c_str() + in_reference, "): decoded to pose %lf, with decode %lf, ICP %lf",
+                        &to_pose, &with_decode, &icp),
+            3)
+      << bench.output;
+  EXPECT_GT(yardstick, 0.0);
+  EXPECT_GT(icp, 0.0);
+  EXPECT_GT(to_pose, icp);
+  EXPECT_GT(with_decode, to_pose);
+}
+
 TEST(Pipeline, AnalysisIsByteIdenticalAcrossRuns) {
   ASSERT_DATASETS();
   TempDir dir("pipeline-determinism");

@@ -58,6 +58,9 @@ struct AnalysisRunOptions {
   FrameSelection selection;
   bool progress = true;       ///< progress line and per-frame failures on stderr
   bool write_outputs = true;  ///< false for `bench`: time only
+  /// `bench`: also time the speed targets' yardstick (bench_yardstick.h) on
+  /// up to this many of the measured frames (0: not).
+  size_t yardstick_frames = 0;
   /// Frames whose disparity, clouds and overlay are written into OUT/frames/ (frame_dump.h).
   std::vector<size_t> dump_frames;
 };
@@ -66,6 +69,7 @@ struct AnalysisRunResult {
   std::vector<FrameResult> frames;
   ModelSummary summary;
   size_t reference_points = 0;
+  std::optional<double> yardstick_ms;  ///< options.yardstick_frames > 0: TimeStereoBmYardstick's median
 };
 
 AnalysisRunResult RunAnalysis(const AnalysisRunOptions& options);

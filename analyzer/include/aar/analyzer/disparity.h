@@ -5,6 +5,7 @@
 
 #include <opencv2/core.hpp>
 #include <string>
+#include <vector>
 
 #include "aar/stereo_calibration.h"
 
@@ -78,8 +79,19 @@ class Rectifier {
   cv::Size image_size() const { return image_size_; }
 
  private:
+  // Which input pixels each 32 x 32 block of a rectification map reads (a
+  // sample and its right and lower neighbours, clipped to the image), so
+  // that a region converts to grey only the part of the inputs it needs.
+  struct SourceBlocks {
+    int block_columns = 0;
+    std::vector<cv::Rect> reads;  // row-major over the map's blocks
+    cv::Rect Needed(const cv::Rect& region) const;
+  };
+  static SourceBlocks BlocksOf(const cv::Mat& map1, cv::Size image_size);
+
   cv::Size image_size_;
   cv::Mat left_map1_, left_map2_, right_map1_, right_map2_;
+  SourceBlocks left_blocks_, right_blocks_;
 };
 
 /// Converts an 8-bit gray, BGR or BGRA image to gray with cv::cvtColor.
