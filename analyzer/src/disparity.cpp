@@ -168,15 +168,19 @@ DisparityMap ComputeDisparity(const cv::Mat& rect_left_gray, const cv::Mat& rect
   CV_Assert(map.disparity16.type() == CV_16SC1);
   if (options.background_disparity_px >= 0.0) {
     const int background16 = static_cast<int>(std::floor(options.background_disparity_px * 16.0));
-    map.disparity16.setTo(map.invalid_value16, map.disparity16 <= background16);
+    const short invalid16 = static_cast<short>(map.invalid_value16);
+    for (int v = 0; v < map.disparity16.rows; ++v) {
+      short* row = map.disparity16.ptr<short>(v);
+      for (int u = 0; u < map.disparity16.cols; ++u) {
+        if (row[u] <= background16) row[u] = invalid16;
+      }
+    }
   }
   if (options.speckle_window_size > 0) {
     // Thesis 3.4: OpenCV's speckle filter, maxDiff in the map's 1/16 px units.
     const double max_diff16 = std::round(options.speckle_range_px * 16.0);
     cv::filterSpeckles(map.disparity16, map.invalid_value16, options.speckle_window_size, max_diff16);
   }
-  map.disparity16.convertTo(map.disparity, CV_32F, 1.0 / 16.0);
-  map.valid_count = static_cast<size_t>(cv::countNonZero(map.disparity16 > map.invalid_value16));
   return map;
 }
 

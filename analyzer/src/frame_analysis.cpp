@@ -178,6 +178,13 @@ void FrameAnalyzer::EnableBoomMask(TriangleMesh boom, TriangleMesh tube) {
                                               options_.boom_mask);
 }
 
+int FrameAnalyzer::DisparitiesFor(double needed_px) const {
+  // 10 % and 2 px of margin for the estimate's error, in StereoBM's steps of 16.
+  const double wanted_px = needed_px * 1.1 + 2.0;
+  if (!std::isfinite(wanted_px)) return options_.disparity.num_disparities;
+  return std::max(16, static_cast<int>(std::ceil((wanted_px - options_.disparity.min_disparity + 1) / 16.0)) * 16);
+}
+
 double FrameAnalyzer::ModelMaxDisparityPx(const Eigen::Isometry3d& tanker_from_receiver) const {
   // Depth along the left optical axis of the nearest model point; d = f b / z.
   const Eigen::Isometry3d left_from_receiver = tanker_from_left_.inverse() * tanker_from_receiver;
@@ -237,11 +244,12 @@ size_t FrameAnalyzer::PropellersKept(const SensedCloud& cloud, const std::vector
       .size();
 }
 
-RegistrationResult FrameAnalyzer::Measure(const FrameInputs& in, const cv::Rect& roi, const std::optional<Pose>& seed,
-                                          FrameResult& r, FrameDump* dump) const {
+RegistrationResult FrameAnalyzer::Measure(const FrameInputs& in, const cv::Rect& roi, int num_disparities,
+                                          const std::optional<Pose>& seed, FrameResult& r, FrameDump* dump) const {
   // The region computed: the receiver's predicted box and, to its left, the
   // columns its matches can come from (the disparity search and a block).
   DisparityOptions disparity_options = options_.disparity;
+  if (num_disparities > 0) disparity_options.num_disparities = num_disparities;
   const cv::Rect image(0, 0, rectifier_.image_size().width, rectifier_.image_size().height);
   const auto compute_region = [&](const DisparityOptions& d) {
     if (roi.area() == 0) return image;
@@ -313,9 +321,7 @@ RegistrationResult FrameAnalyzer::Measure(const FrameInputs& in, const cv::Rect&
       throw Error(in.left_path + ": out of stereo range (the receiver needs " + FormatFixed(needed_px, 0) +
                   " px of disparity, the search covers " + std::to_string(searched_max) + ")");
     }
-    const double wanted_px = needed_px * 1.1 + 2.0;  // 10 % and 2 px of margin for the first estimate's error
-    disparity_options.num_disparities =
-        static_cast<int>(std::ceil((wanted_px - disparity_options.min_disparity + 1) / 16.0)) * 16;
+    disparity_options.num_disparities = DisparitiesFor(needed_px);
   }
   return icp;
 }
@@ -368,8 +374,11 @@ RegistrationResult FrameAnalyzer::MeasureFrame(const FrameInputs& in, const std:
       const cv::Rect roi = PredictedRegion(IsometryFromPose(*predicted));
       if (roi.area() > 0) {
         FrameResult attempt = r;
+        // The disparities the predicted receiver needs, when fewer than the options search.
+        const int num_disparities = std::min(options_.disparity.num_disparities,
+                                             DisparitiesFor(ModelMaxDisparityPx(IsometryFromPose(*predicted))));
         try {
-          icp = Measure(in, roi, seed, attempt, dump);
+          icp = Measure(in, roi, num_disparities, seed, attempt, dump);
           // Lost when the receiver reaches the region's border: measure the whole image.
           const cv::Rect estimated = PredictedRegion(icp.tanker_from_receiver, 0.0, 0);
           measured = estimated.area() > 0 && (estimated & roi) == estimated;
@@ -384,7 +393,7 @@ RegistrationResult FrameAnalyzer::MeasureFrame(const FrameInputs& in, const std:
       }
     }
     if (!measured) {
-      icp = Measure(in, cv::Rect(), seed, r, dump);
+      icp = Measure(in, cv::Rect(), 0, seed, r, dump);
       AddAttemptTimes(r.times, lost_times);
     }
     why = RegistrationFailure(icp, r.sensed_points);
@@ -395,7 +404,7 @@ RegistrationResult FrameAnalyzer::MeasureFrame(const FrameInputs& in, const std:
   if (!why.empty() && seed) {
     // Tracking from the last estimate went wrong: the centroid, the whole image.
     const StageTimes spent = r.times;
-    icp = Measure(in, cv::Rect(), std::nullopt, r, dump);
+    icp = Measure(in, cv::Rect(), 0, std::nullopt, r, dump);
     AddAttemptTimes(r.times, spent);
     why = RegistrationFailure(icp, r.sensed_points);
   }

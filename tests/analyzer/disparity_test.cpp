@@ -38,9 +38,10 @@ void TexturedPair(int width, int height, double shift_px, uint32_t seed, cv::Mat
 /// Median of the valid disparities right of the matcher's blind band.
 double MedianDisparity(const DisparityMap& map, int first_column, size_t* valid) {
   std::vector<float> values;
-  for (int v = 0; v < map.disparity.rows; ++v) {
-    for (int u = first_column; u < map.disparity.cols; ++u) {
-      if (map.disparity16.at<short>(v, u) > map.invalid_value16) values.push_back(map.disparity.at<float>(v, u));
+  for (int v = 0; v < map.disparity16.rows; ++v) {
+    for (int u = first_column; u < map.disparity16.cols; ++u) {
+      if (map.disparity16.at<short>(v, u) > map.invalid_value16)
+        values.push_back(map.disparity16.at<short>(v, u) / 16.0f);
     }
   }
   *valid = values.size();
@@ -55,16 +56,12 @@ void ExpectRecoversShift(const DisparityOptions& options, double shift_px, doubl
   TexturedPair(kWidth, kHeight, shift_px, 1234, left, right);
   const DisparityMap map = ComputeDisparity(left, right, options);
   ASSERT_EQ(map.disparity16.type(), CV_16SC1);
-  ASSERT_EQ(map.disparity.type(), CV_32FC1);
   const int first = options.num_disparities + options.block_size;
   size_t valid = 0;
   const double median = MedianDisparity(map, first, &valid);
   const size_t area = static_cast<size_t>(kWidth - first) * kHeight;
   EXPECT_GT(valid, area * 8 / 10) << "too few valid disparities";
   EXPECT_NEAR(median, shift_px, tolerance_px) << "shift " << shift_px;
-  // The float view is the fixed-point map / 16.
-  EXPECT_FLOAT_EQ(map.disparity.at<float>(kHeight / 2, kWidth / 2),
-                  map.disparity16.at<short>(kHeight / 2, kWidth / 2) / 16.0f);
 }
 
 TEST(Disparity, BlockMatchingRecoversIntegerShift) { ExpectRecoversShift(DisparityOptions{}, 17.0); }
@@ -94,8 +91,7 @@ TEST(Disparity, InvalidPixelsCarryOpenCvsMarker) {
   EXPECT_EQ(map.invalid_value16, 16);
   // The left band where the search runs off the right image has no disparity.
   for (int v = 0; v < map.disparity16.rows; ++v) ASSERT_EQ(map.disparity16.at<short>(v, 0), 16);
-  EXPECT_FLOAT_EQ(map.disparity.at<float>(0, 0), 1.0f);
-  EXPECT_EQ(map.valid_count, static_cast<size_t>(cv::countNonZero(map.disparity16 != 16)));
+  EXPECT_GT(cv::countNonZero(map.disparity16 != 16), map.disparity16.rows * 100);
 }
 
 TEST(Disparity, SpeckleFilterRemovesSmallInconsistentRegions) {

@@ -100,9 +100,7 @@ cv::Mat ToGrayscale(const cv::Mat& image, const std::string& name = "image");
 
 struct DisparityMap {
   cv::Mat disparity16;        ///< CV_16S, disparity * 16 in rect_left pixels; InvalidValue16() where none
-  cv::Mat disparity;          ///< CV_32F view, disparity16 / 16 [px]; min_disparity - 1 where none
   int invalid_value16 = -16;  ///< the value marking invalid pixels in disparity16
-  size_t valid_count = 0;     ///< pixels with a disparity (after the speckle filter)
 };
 
 /// Disparity of the rectified left image against the rectified right image

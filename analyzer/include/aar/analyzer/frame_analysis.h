@@ -250,9 +250,10 @@ class FrameAnalyzer {
   // without the mask.
   size_t PropellersKept(const SensedCloud& cloud, const std::vector<size_t>& blades,
                         const RegistrationResult& icp) const;
-  // Rectify, match, re-project and register in `roi` (empty: the whole image).
-  RegistrationResult Measure(const FrameInputs& in, const cv::Rect& roi, const std::optional<Pose>& seed,
-                             FrameResult& r, FrameDump* dump) const;
+  // Rectify, match, re-project and register in `roi` (empty: the whole
+  // image), searching `num_disparities` (0: options.disparity's).
+  RegistrationResult Measure(const FrameInputs& in, const cv::Rect& roi, int num_disparities,
+                             const std::optional<Pose>& seed, FrameResult& r, FrameDump* dump) const;
   // Why a registration failed: its residual beyond what stereo noise at its
   // range explains, or too few pairs (min_inlier_fraction); empty when it did not.
   std::string RegistrationFailure(const RegistrationResult& registered, size_t sensed_points) const;
@@ -269,6 +270,9 @@ class FrameAnalyzer {
     return PredictedRegion(tanker_from_receiver, options_.track_margin_fraction, options_.track_margin_px);
   }
   // Largest disparity the model needs at a pose (its nearest point) [px].
+  // The disparities to search for a receiver that needs `needed_px` at its
+  // nearest point: 10 % and 2 px more, in StereoBM's steps of 16 (at least 16).
+  int DisparitiesFor(double needed_px) const;
   double ModelMaxDisparityPx(const Eigen::Isometry3d& tanker_from_receiver) const;
 };
 
