@@ -365,7 +365,8 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   const std::set<size_t> dump_frames(options.dump_frames.begin(), options.dump_frames.end());
   const DumpProjection projection =
       dump_frames.empty() ? DumpProjection{} : DumpProjectionOf(calibration.calibration, rig, reference);
-  const Rectifier whole_rectifier(calibration.calibration);  // the yardstick's
+  std::optional<Rectifier> whole_rectifier;  // the yardstick's
+  if (options.yardstick_frames > 0) whole_rectifier.emplace(calibration.calibration);
   const size_t yardstick_stride =
       std::max<size_t>(1, in.selected.size() / std::max<size_t>(1, options.yardstick_frames));
   std::vector<double> yardstick;  // [ms]
@@ -390,8 +391,8 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
       if (options.progress) std::fprintf(stderr, "frame %zu not measured: %s\n", index, frame.status.c_str());
     }
     // Timed between the frames, spread over the run, so that it sees the machine's load as they do.
-    if (options.yardstick_frames > 0 && frame.ok() && result.frames.size() % yardstick_stride == 0) {
-      yardstick.push_back(TimeStereoBmYardstick(options.dataset, in.manifest, whole_rectifier, index));
+    if (whole_rectifier && frame.ok() && result.frames.size() % yardstick_stride == 0) {
+      yardstick.push_back(TimeStereoBmYardstick(options.dataset, in.manifest, *whole_rectifier, index));
     }
     ScoreFrame(frame, depth, bop_object, mesh, rig);
     result.frames.push_back(std::move(frame));

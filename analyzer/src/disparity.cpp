@@ -1,8 +1,8 @@
 #include "aar/analyzer/disparity.h"
 
 #include <algorithm>
-#include <climits>
 #include <cmath>
+#include <limits>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
@@ -84,7 +84,8 @@ Rectifier::SourceBlocks Rectifier::BlocksOf(const cv::Mat& map1, cv::Size image_
   const cv::Rect image(0, 0, image_size.width, image_size.height);
   for (int by = 0; by < block_rows; ++by) {
     for (int bx = 0; bx < blocks.block_columns; ++bx) {
-      int x0 = INT32_MAX, y0 = INT32_MAX, x1 = INT32_MIN, y1 = INT32_MIN;
+      constexpr int kMax = std::numeric_limits<int>::max(), kMin = std::numeric_limits<int>::min();
+      int x0 = kMax, y0 = kMax, x1 = kMin, y1 = kMin;
       for (int y = by * kSourceBlock; y < std::min(map1.rows, (by + 1) * kSourceBlock); ++y) {
         const cv::Vec2s* row = map1.ptr<cv::Vec2s>(y);
         for (int x = bx * kSourceBlock; x < std::min(map1.cols, (bx + 1) * kSourceBlock); ++x) {

@@ -269,10 +269,10 @@ class FrameAnalyzer {
   cv::Rect PredictedRegion(const Eigen::Isometry3d& tanker_from_receiver) const {
     return PredictedRegion(tanker_from_receiver, options_.track_margin_fraction, options_.track_margin_px);
   }
-  // Largest disparity the model needs at a pose (its nearest point) [px].
   // The disparities to search for a receiver that needs `needed_px` at its
   // nearest point: 10 % and 2 px more, in StereoBM's steps of 16 (at least 16).
   int DisparitiesFor(double needed_px) const;
+  // Largest disparity the model needs at a pose (its nearest point) [px].
   double ModelMaxDisparityPx(const Eigen::Isometry3d& tanker_from_receiver) const;
 };
 
