@@ -110,6 +110,9 @@ SubpixelRefiner::SubpixelRefiner(const cv::Mat& rect_left_gray, const cv::Mat& r
     right_spline_.create(right8_.size(), CV_32FC1);
   }
   row_ready_.assign(static_cast<size_t>(left8_.rows), 0);
+  const size_t side = 2 * static_cast<size_t>(options_.half_window_px) + 1;
+  residuals_.resize(side * side);
+  gradients_.resize(side * side);
 }
 
 void SubpixelRefiner::PrepareRows(int first, int last) const {
@@ -156,10 +159,91 @@ double SubpixelRefiner::GradientEnergy(int u, int v, double d_int) const {
   return squared - sum * sum / ((2 * h + 1) * (2 * h + 1));
 }
 
+void SubpixelRefiner::SampleWindow(int u, int v, double d_int, const Eigen::Vector3d& p, float* e, float* g) const {
+  const int h = options_.half_window_px;
+  const bool spline = options_.interpolation == SubpixelInterpolation::kCubicBSpline;
+  for (int i = -h; i <= h; ++i) {
+    const float* l = left_.ptr<float>(v + i);
+    const float* r = right_.ptr<float>(v + i);
+    const float* ls = spline ? left_spline_.ptr<float>(v + i) : nullptr;
+    const float* rs = spline ? right_spline_.ptr<float>(v + i) : nullptr;
+    // Sample (i, j) lies at xl = u + j + shift / 2 in the left image and
+    // xr = u + j - d_int - shift / 2 in the right one.
+    const double row_shift = p(0) + p(2) * i - p(1) * h;
+    double xl = u - h + 0.5 * row_shift, xr = u - h - d_int - 0.5 * row_shift;
+    const double step_l = 1.0 + 0.5 * p(1), step_r = 1.0 - 0.5 * p(1);
+    for (int j = -h; j <= h; ++j, xl += step_l, xr += step_r, ++e, ++g) {
+      // e = I_L(xl) - I_R(xr); de/d shift = (I_L'(xl) + I_R'(xr)) / 2.
+      if (spline) {
+        float vl, gl, vr, gr;
+        SampleSpline(ls, xl, &vl, &gl);
+        SampleSpline(rs, xr, &vr, &gr);
+        *e = vl - vr;
+        *g = 0.5f * (gl + gr);
+      } else {
+        // Interleaved (intensity, derivative) pairs: one index per image.
+        const int il = static_cast<int>(xl), ir = static_cast<int>(xr);
+        const float al = static_cast<float>(xl - il), ar = static_cast<float>(xr - ir);
+        const float* pl = l + 2 * il;
+        const float* pr = r + 2 * ir;
+        *e = (pl[0] + al * (pl[2] - pl[0])) - (pr[0] + ar * (pr[2] - pr[0]));
+        *g = 0.5f * ((pl[1] + al * (pl[3] - pl[1])) + (pr[1] + ar * (pr[3] - pr[1])));
+      }
+    }
+  }
+}
+
+SubpixelRefiner::NormalEquations SubpixelRefiner::Normals(const float* e, const float* g) const {
+  // The Jacobian of sample (i, j) (row, column offsets) is g (1, j, i), so
+  // per row only sums of g, g j, g^2, g^2 j, g^2 j^2, e, e g and e g j are
+  // needed (in float, over one row); the row offset i multiplies them
+  // afterwards (in double).
+  const int h = options_.half_window_px;
+  double sum_e = 0.0, sum_g = 0.0, sum_gj = 0.0, sum_gi = 0.0;
+  double sum_eg = 0.0, sum_egj = 0.0, sum_egi = 0.0;
+  double s00 = 0.0, s01 = 0.0, s02 = 0.0, s11 = 0.0, s12 = 0.0, s22 = 0.0;
+  for (int i = -h; i <= h; ++i) {
+    float re = 0.0f, rg = 0.0f, rgj = 0.0f, rg2 = 0.0f, rg2j = 0.0f, rg2jj = 0.0f, reg = 0.0f, regj = 0.0f;
+    for (int j = -h; j <= h; ++j, ++e, ++g) {
+      const float fj = static_cast<float>(j), g2 = *g * *g, eg = *e * *g;
+      re += *e;
+      rg += *g;
+      rgj += *g * fj;
+      rg2 += g2;
+      rg2j += g2 * fj;
+      rg2jj += g2 * fj * fj;
+      reg += eg;
+      regj += eg * fj;
+    }
+    const double di = i;
+    sum_e += re;
+    sum_g += rg;
+    sum_gj += rgj;
+    sum_gi += di * rg;
+    sum_eg += reg;
+    sum_egj += regj;
+    sum_egi += di * reg;
+    s00 += rg2;
+    s01 += rg2j;
+    s02 += di * rg2;
+    s11 += rg2jj;
+    s12 += di * rg2j;
+    s22 += di * di * rg2;
+  }
+  // Zero-mean normal equations: sum (J - mean J)(J - mean J)^T =
+  // sum J J^T - n mean_J mean_J^T, likewise for J e.
+  const double n = (2 * h + 1) * (2 * h + 1);
+  NormalEquations out;
+  const Eigen::Vector3d mean_j = Eigen::Vector3d(sum_g, sum_gj, sum_gi) / n;
+  out.jj << s00, s01, s02, s01, s11, s12, s02, s12, s22;
+  out.jj -= n * mean_j * mean_j.transpose();
+  out.je = Eigen::Vector3d(sum_eg, sum_egj, sum_egi) - sum_e * mean_j;
+  return out;
+}
+
 std::optional<RefinedDisparity> SubpixelRefiner::Refine(int u_image, int v_image, double disparity_px) const {
   const int u = u_image - origin_.x, v = v_image - origin_.y;
   const int h = options_.half_window_px;
-  const double n = (2 * h + 1) * (2 * h + 1);
   const double d_int = std::round(disparity_px);
   const double start = disparity_px - d_int;
   // Both windows need their samples and the next column inside the image;
@@ -177,88 +261,25 @@ std::optional<RefinedDisparity> SubpixelRefiner::Refine(int u_image, int v_image
   if (spline && !(GradientEnergy(u, v, d_int) >= options_.min_gradient_energy)) return std::nullopt;
   // Parameters: delta (the centre's disparity minus d_int), and with a
   // slanted window its change per column and per row, so that sample (i, j)
-  // (row, column offsets) is shifted by delta + a j + b i. One Gauss-Newton
-  // step solves the zero-mean normal equations (the windows' brightness
-  // offset is not a disparity) for all of them.
+  // is shifted by delta + a j + b i. One Gauss-Newton step solves the
+  // zero-mean normal equations (the windows' brightness offset is not a
+  // disparity) for all of them.
   Eigen::Vector3d p(start, 0.0, 0.0);
   RefinedDisparity out;
+  std::vector<float>& e = residuals_;
+  std::vector<float>& g = gradients_;
   const int max_iterations = options_.slanted ? 2 * options_.max_iterations : options_.max_iterations;
   for (int iteration = 0; iteration < max_iterations; ++iteration) {
-    // One pass over the window gathers the sums of the normal equations.
-    // The Jacobian of sample (i, j) is g (1, j, i), so per row only sums of
-    // g, g j, g^2, g^2 j, g^2 j^2, e, e g and e g j are needed; the row
-    // offset i multiplies them afterwards.
-    double sum_e = 0.0, sum_g = 0.0, sum_gj = 0.0, sum_gi = 0.0;
-    double sum_eg = 0.0, sum_egj = 0.0, sum_egi = 0.0;
-    double s00 = 0.0, s01 = 0.0, s02 = 0.0, s11 = 0.0, s12 = 0.0, s22 = 0.0;
-    for (int i = -h; i <= h; ++i) {
-      const float* l = left_.ptr<float>(v + i);
-      const float* r = right_.ptr<float>(v + i);
-      const float* ls = spline ? left_spline_.ptr<float>(v + i) : nullptr;
-      const float* rs = spline ? right_spline_.ptr<float>(v + i) : nullptr;
-      // Sample (i, j) lies at xl = u + j + shift / 2 in the left image and
-      // xr = u + j - d_int - shift / 2 in the right one.
-      const double row_shift = p(0) + p(2) * i - p(1) * h;
-      double xl = u - h + 0.5 * row_shift, xr = u - h - d_int - 0.5 * row_shift;
-      const double step_l = 1.0 + 0.5 * p(1), step_r = 1.0 - 0.5 * p(1);
-      float re = 0.0f, rg = 0.0f, rgj = 0.0f, rg2 = 0.0f, rg2j = 0.0f, rg2jj = 0.0f, reg = 0.0f, regj = 0.0f;
-      for (int j = -h; j <= h; ++j, xl += step_l, xr += step_r) {
-        // e = I_L(xl) - I_R(xr); de/d shift = (I_L'(xl) + I_R'(xr)) / 2.
-        float e, g;
-        if (spline) {
-          float vl, gl, vr, gr;
-          SampleSpline(ls, xl, &vl, &gl);
-          SampleSpline(rs, xr, &vr, &gr);
-          e = vl - vr;
-          g = 0.5f * (gl + gr);
-        } else {
-          // Interleaved (intensity, derivative) pairs: one index per image.
-          const int il = static_cast<int>(xl), ir = static_cast<int>(xr);
-          const float al = static_cast<float>(xl - il), ar = static_cast<float>(xr - ir);
-          const float* pl = l + 2 * il;
-          const float* pr = r + 2 * ir;
-          e = (pl[0] + al * (pl[2] - pl[0])) - (pr[0] + ar * (pr[2] - pr[0]));
-          g = 0.5f * ((pl[1] + al * (pl[3] - pl[1])) + (pr[1] + ar * (pr[3] - pr[1])));
-        }
-        const float fj = static_cast<float>(j), g2 = g * g, eg = e * g;
-        re += e;
-        rg += g;
-        rgj += g * fj;
-        rg2 += g2;
-        rg2j += g2 * fj;
-        rg2jj += g2 * fj * fj;
-        reg += eg;
-        regj += eg * fj;
-      }
-      const double di = i;
-      sum_e += re;
-      sum_g += rg;
-      sum_gj += rgj;
-      sum_gi += di * rg;
-      sum_eg += reg;
-      sum_egj += regj;
-      sum_egi += di * reg;
-      s00 += rg2;
-      s01 += rg2j;
-      s02 += di * rg2;
-      s11 += rg2jj;
-      s12 += di * rg2j;
-      s22 += di * di * rg2;
-    }
-    // Zero-mean normal equations: sum (J - mean J)(J - mean J)^T =
-    // sum J J^T - n mean_J mean_J^T, likewise for J e.
-    const Eigen::Vector3d mean_j = Eigen::Vector3d(sum_g, sum_gj, sum_gi) / n;
-    Eigen::Matrix3d jj;
-    jj << s00, s01, s02, s01, s11, s12, s02, s12, s22;
-    jj -= n * mean_j * mean_j.transpose();
-    const Eigen::Vector3d je = Eigen::Vector3d(sum_eg, sum_egj, sum_egi) - sum_e * mean_j;
+    SampleWindow(u, v, d_int, p, e.data(), g.data());
+    const NormalEquations normals = Normals(e.data(), g.data());
+    const Eigen::Matrix3d& jj = normals.jj;
     if (!spline && !(jj(0, 0) >= options_.min_gradient_energy)) return std::nullopt;
     if (!(jj(0, 0) > 0.0)) return std::nullopt;
     Eigen::Vector3d step = Eigen::Vector3d::Zero();
     if (!options_.slanted) {
-      step(0) = -je(0) / jj(0, 0);
+      step(0) = -normals.je(0) / jj(0, 0);
     } else {
-      step = -jj.ldlt().solve(je);
+      step = -jj.ldlt().solve(normals.je);
       if (!step.allFinite()) return std::nullopt;
     }
     p += step;

@@ -183,6 +183,42 @@ TEST(Reprojection, MatchesReprojectImageTo3DAndUndoesRectification) {
   }
 }
 
+// Which points pass the depth filter decides the kept set: whether Q is a
+// rectifying one (its depth tabulated per disparity) or a general one (u and
+// v in its last rows, evaluated per pixel), the kept points are those eq. 1
+// puts in range, in row-major order.
+TEST(Reprojection, KeepsThePointsEquationOnePutsInRangeForAnyQ) {
+  for (const bool general : {false, true}) {
+    SCOPED_TRACE(general ? "general Q" : "rectifying Q");
+    StereoCalibration c = IdealCalibration(TestRig());
+    if (general) c.Q.at<double>(3, 0) = 0.01;  // w, so the depth, varies along the rows
+    cv::Mat disparity(kHeight, kWidth, CV_16S);
+    cv::RNG rng(5);
+    rng.fill(disparity, cv::RNG::UNIFORM, -16, 16 * 30);
+    ReprojectionOptions options = PlainOptions();
+    options.keep_one_in = 1;
+    options.max_depth_m = 25.0;  // about half of the disparities, 0 to 30 px, fall short of 18 px
+    const SensedCloud cloud = Reproject(disparity, kInvalid16, c, Eigen::Isometry3d::Identity(), options);
+    Eigen::Matrix4d q;
+    for (int i = 0; i < 16; ++i) q(i / 4, i % 4) = c.Q.at<double>(i / 4, i % 4);
+    std::vector<Eigen::Vector3d> expected;
+    for (int v = 0; v < kHeight; ++v) {
+      for (int u = 0; u < kWidth; ++u) {
+        const short value = disparity.at<short>(v, u);
+        if (value <= kInvalid16) continue;
+        const Eigen::Vector4d h = q * Eigen::Vector4d(u, v, value / 16.0, 1.0);
+        const Eigen::Vector3d p = h.head<3>() / h.w();
+        if (p.allFinite() && p.z() > options.min_depth_m && p.z() <= options.max_depth_m) expected.push_back(p);
+      }
+    }
+    ASSERT_GT(expected.size(), 1000u);
+    ASSERT_LT(expected.size(), static_cast<size_t>(kWidth) * kHeight * 3 / 4);
+    ASSERT_EQ(cloud.kept_count, expected.size());
+    EXPECT_EQ(0,
+              std::memcmp(cloud.points_in_tanker.data(), expected.data(), expected.size() * sizeof(Eigen::Vector3d)));
+  }
+}
+
 TEST(Reprojection, IsBitwiseRepeatable) {
   const StereoRig rig = TestRig();
   const StereoCalibration c = IdealCalibration(rig);

@@ -35,6 +35,7 @@
 // tenth of a pixel for which it varies by less than 2.5 % over a (the test
 // SubpixelBSpline.PrefilterMakesNoiseVarianceFlat computes it).
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -110,6 +111,15 @@ class SubpixelRefiner {
  private:
   /// Converts rows first..last (once each) into left_ and right_.
   void PrepareRows(int first, int last) const;
+  /// The window's residuals e = I_L - I_R and gradients (I_L' + I_R') / 2 at
+  /// parameters p (see Refine), row-major, (2h+1)^2 of each.
+  void SampleWindow(int u, int v, double d_int, const Eigen::Vector3d& p, float* e, float* g) const;
+  /// The zero-mean Gauss-Newton normal equations of one window's samples.
+  struct NormalEquations {
+    Eigen::Matrix3d jj;
+    Eigen::Vector3d je;
+  };
+  NormalEquations Normals(const float* e, const float* g) const;
   /// kCubicBSpline: the zero-mean squared horizontal gradient of the two
   /// unfiltered windows at integer disparity d_int (the texture test).
   double GradientEnergy(int u, int v, double d_int) const;
@@ -122,6 +132,8 @@ class SubpixelRefiner {
   // kCubicBSpline: CV_32FC1 B-spline coefficients of the prefiltered rows.
   mutable cv::Mat left_spline_, right_spline_;
   mutable std::vector<uint8_t> row_ready_;
+  // The current window's residuals and gradients (SampleWindow).
+  mutable std::vector<float> residuals_, gradients_;
   SubpixelOptions options_;
   cv::Point origin_;
 };
