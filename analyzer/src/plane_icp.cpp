@@ -88,6 +88,163 @@ MetricSearch BuildMetricSearch(const std::vector<Eigen::Vector3d>& surface,
   return search;
 }
 
+// What one Register call pairs: the sensed cloud with its noise and centre,
+// the surface its points pair with (the pairing surface, or the model), and
+// the model whose points pair back in kSymmetric.
+struct PairingInputs {
+  const std::vector<Eigen::Vector3d>& sensed;
+  const std::vector<SensedNoise>& noise;
+  const Eigen::Vector3d& centre;
+  const std::vector<Eigen::Vector3d>& surface;
+  const std::vector<Eigen::Vector3d>& surface_normals;
+  const std::vector<Eigen::Vector3d>& model;
+  const std::vector<Eigen::Vector3d>& model_normals;
+  const StereoNoiseGeometry& geometry;
+  const PlaneIcpOptions& options;
+};
+
+// One Register call's nearest-neighbour searches: sensed to surface (in
+// metres, or kMahalanobis's metric search) and, kSymmetric, model to sensed.
+struct PairingSearches {
+  std::unique_ptr<CachedNearest> to_model;
+  // kMahalanobis: its distances are not metres, so no radius. Rebuilt when
+  // the camera's rays through the receiver have turned by more than
+  // sigma_lat / sigma_ray (median over the cloud) since: beyond that, an
+  // along-ray error of one sigma would be mistaken for a lateral one of one sigma.
+  MetricSearch metric;
+  std::unique_ptr<CachedNearest> to_metric;
+  double max_ray_turn_rad = 0.0, range_m = 0.0;
+  std::unique_ptr<KdTree3d> sensed_tree;
+  std::unique_ptr<CachedNearest> to_sensed;
+
+  void BuildMetric(const PairingInputs& in, const Eigen::Isometry3d& tanker_from_receiver) {
+    metric = BuildMetricSearch(in.surface, in.surface_normals, in.geometry, in.options, tanker_from_receiver);
+    to_metric =
+        std::make_unique<CachedNearest>(*metric.tree, in.sensed.size(), true, std::numeric_limits<double>::infinity());
+  }
+
+  // kMahalanobis: rebuilds the metric search when the estimate has turned
+  // the rays by more than max_ray_turn_rad since it was built.
+  void UpdateMetric(const PairingInputs& in, const Eigen::Isometry3d& tanker_from_receiver) {
+    const Eigen::Isometry3d receiver_from_camera_then = metric.camera_from_receiver.inverse();
+    const Eigen::Isometry3d camera_now_from_receiver = metric.camera_from_tanker * tanker_from_receiver;
+    const Eigen::Isometry3d change = camera_now_from_receiver * receiver_from_camera_then;
+    const double turn =
+        Eigen::AngleAxisd(change.linear()).angle() +
+        (receiver_from_camera_then.translation() - camera_now_from_receiver.inverse().translation()).norm() / range_m;
+    if (turn > max_ray_turn_rad) BuildMetric(in, tanker_from_receiver);
+  }
+};
+
+// The searches of one Register call, the metric search built at the initial
+// estimate; `surface_tree` holds in.surface.
+PairingSearches MakeSearches(const PairingInputs& in, const NearestSearch3d& surface_tree,
+                             const Eigen::Isometry3d& initial_tanker_from_receiver) {
+  const PlaneIcpOptions& o = in.options;
+  const bool metric = o.pairing == PlanePairing::kMahalanobis;
+  double max_gate_squared = 0.0;
+  for (const SensedNoise& n : in.noise) max_gate_squared = std::max(max_gate_squared, n.gate_squared);
+  const double search_radius = std::sqrt(max_gate_squared);
+  PairingSearches searches;
+  if (metric) {
+    std::vector<double> ratios, ranges;
+    for (size_t i = 0; i < in.sensed.size(); ++i) {
+      ratios.push_back(std::sqrt(in.noise[i].lateral_variance / in.noise[i].ray_variance));
+      ranges.push_back((in.sensed[i] - in.geometry.camera_centre_in_tanker).norm());
+    }
+    searches.max_ray_turn_rad = UpperMedian(ratios);
+    searches.range_m = UpperMedian(ranges);
+    searches.BuildMetric(in, initial_tanker_from_receiver);
+  }
+  searches.to_model = std::make_unique<CachedNearest>(surface_tree, metric ? 0 : in.sensed.size(), true, search_radius);
+  if (o.pairing == PlanePairing::kSymmetric) {
+    searches.sensed_tree = std::make_unique<KdTree3d>(in.sensed, o.kdtree_leaf_size);
+    searches.to_sensed = std::make_unique<CachedNearest>(*searches.sensed_tree, in.model.size(), true, search_radius);
+  }
+  return searches;
+}
+
+// Adds every coarse-th sensed point's pair with the surface to `equations`
+// (weighted coarse); returns the pairs found within their gates.
+size_t AddSensedPairs(const PairingInputs& in, PairingSearches& searches, const Eigen::Isometry3d& tanker_from_receiver,
+                      size_t coarse, NormalEquations& equations, double& sum_squared) {
+  const PlaneIcpOptions& o = in.options;
+  const bool metric = o.pairing == PlanePairing::kMahalanobis;
+  const Eigen::Isometry3d receiver_from_tanker = tanker_from_receiver.inverse();
+  const Eigen::Matrix3d rotation = tanker_from_receiver.linear();
+  size_t inliers = 0;
+  for (size_t i = 0; i < in.sensed.size(); i += coarse) {
+    const Eigen::Vector3d in_receiver = receiver_from_tanker * in.sensed[i];
+    size_t j = CachedNearest::kNone;
+    double squared = 0.0;
+    if (metric) {
+      Eigen::Vector3d mapped;
+      if (!searches.metric.Map(in_receiver, mapped)) continue;
+      j = searches.to_metric->Find(i, mapped).first;
+      if (j == CachedNearest::kNone) continue;
+      j = searches.metric.index[j];
+      squared = SquaredDistance(in_receiver, in.surface[j]);
+    } else {
+      std::tie(j, squared) = searches.to_model->Find(i, in_receiver);
+      if (j == CachedNearest::kNone) continue;
+    }
+    const SensedNoise& noise = in.noise[i];
+    if (squared > noise.gate_squared) continue;
+    const Eigen::Vector3d p = tanker_from_receiver * in.surface[j];
+    const Eigen::Vector3d n = rotation * in.surface_normals[j];
+    const Eigen::Vector3d& sensed = in.sensed[i];
+    const double weight = static_cast<double>(coarse);
+    if (o.residual == PlaneResidual::kMetric) {
+      equations.Add(p, n, sensed, noise, in.centre, o, weight, sum_squared, sensed);
+    } else if (o.residual == PlaneResidual::kMetricRay) {
+      equations.Add(p, n, sensed, noise, in.centre, o, weight, sum_squared, RayLever(p, n, sensed, noise, in.geometry));
+    } else if (!equations.AddDisparity(p, n, sensed, noise, in.geometry, in.centre, o, weight, sum_squared)) {
+      // Oblique to the ray: the metric residual, its noise and lever arm from the model point.
+      equations.Add(p, n, sensed, NoiseAt(p, in.geometry, o), in.centre, o, weight, sum_squared, p);
+    }
+    ++inliers;
+  }
+  return inliers;
+}
+
+// kSymmetric: adds the model points' pairs with the sensed cloud.
+void AddModelPairs(const PairingInputs& in, PairingSearches& searches, const Eigen::Isometry3d& tanker_from_receiver,
+                   size_t coarse, NormalEquations& equations) {
+  const PlaneIcpOptions& o = in.options;
+  const Eigen::Matrix3d rotation = tanker_from_receiver.linear();
+  double unused = 0.0;
+  // Each direction weighs as much in total as the other, whatever the
+  // model's and the cloud's sizes.
+  const double balance =
+      o.balance_directions ? static_cast<double>(in.sensed.size()) / static_cast<double>(in.model.size()) : 1.0;
+  // Every stride-th model point, each standing for stride of them.
+  const size_t stride =
+      coarse * (o.max_model_queries > 0 ? (in.model.size() + o.max_model_queries - 1) / o.max_model_queries : 1);
+  for (size_t j = 0; j < in.model.size(); j += stride) {
+    const Eigen::Vector3d p = tanker_from_receiver * in.model[j];
+    const auto [i, squared] = searches.to_sensed->Find(j, p);
+    if (i == CachedNearest::kNone || squared > in.noise[i].gate_squared) continue;
+    const SensedNoise& noise = in.noise[i];
+    const double pull = o.model_pull_scale_m > 0.0
+                            ? noise.ray_variance / (noise.ray_variance + o.model_pull_scale_m * o.model_pull_scale_m)
+                            : 1.0;
+    equations.Add(p, rotation * in.model_normals[j], in.sensed[i], noise, in.centre, o,
+                  pull * balance * static_cast<double>(stride), unused, in.sensed[i]);
+  }
+}
+
+// p -> centre + R_w (p - centre) + v for step = (w, v), applied after
+// tanker_from_receiver.
+Eigen::Isometry3d ApplyStep(const Eigen::Matrix<double, 6, 1>& step, const Eigen::Vector3d& centre,
+                            const Eigen::Isometry3d& tanker_from_receiver) {
+  const Eigen::Vector3d w = step.head<3>();
+  const double angle = w.norm();
+  Eigen::Isometry3d increment = Eigen::Isometry3d::Identity();
+  if (angle > 0.0) increment.linear() = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+  increment.translation() = centre + step.tail<3>() - increment.linear() * centre;
+  return increment * tanker_from_receiver;
+}
+
 }  // namespace
 
 std::string ToString(PlanePairing pairing) {
@@ -197,48 +354,17 @@ RegistrationResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vecto
   if (sensed.empty()) throw Error("point-to-plane ICP: the sensed point cloud is empty");
   CheckFinitePoints(sensed, "point-to-plane ICP: sensed point");
   const PlaneIcpOptions& o = options_;
-  const bool symmetric = o.pairing == PlanePairing::kSymmetric;
   const bool metric = o.pairing == PlanePairing::kMahalanobis;
   const std::vector<SensedNoise> noise = NoiseOf(sensed, geometry_, o);
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& s : sensed) centre += s;
   centre /= static_cast<double>(sensed.size());
-
-  double max_gate_squared = 0.0;
-  for (const SensedNoise& n : noise) max_gate_squared = std::max(max_gate_squared, n.gate_squared);
-  const double search_radius = std::sqrt(max_gate_squared);
   const bool own_surface = !surface_.empty();
-  const std::vector<Eigen::Vector3d>& surface = own_surface ? surface_ : model_;
-  const std::vector<Eigen::Vector3d>& surface_normals = own_surface ? surface_normals_ : normals_;
-  // kMahalanobis: its distances are not metres, so no radius. Rebuilt when
-  // the camera's rays through the receiver have turned by more than
-  // sigma_lat / sigma_ray (median over the cloud) since: beyond that, an
-  // along-ray error of one sigma would be mistaken for a lateral one of one sigma.
-  MetricSearch metric_search;
-  std::unique_ptr<CachedNearest> to_metric;
-  const auto build_metric_search = [&](const Eigen::Isometry3d& tanker_from_receiver) {
-    metric_search = BuildMetricSearch(surface, surface_normals, geometry_, o, tanker_from_receiver);
-    to_metric = std::make_unique<CachedNearest>(*metric_search.tree, sensed.size(), true,
-                                                std::numeric_limits<double>::infinity());
-  };
-  double max_ray_turn_rad = 0.0, range_m = 0.0;
-  if (metric) {
-    std::vector<double> ratios, ranges;
-    for (size_t i = 0; i < sensed.size(); ++i) {
-      ratios.push_back(std::sqrt(noise[i].lateral_variance / noise[i].ray_variance));
-      ranges.push_back((sensed[i] - geometry_.camera_centre_in_tanker).norm());
-    }
-    max_ray_turn_rad = UpperMedian(ratios);
-    range_m = UpperMedian(ranges);
-    build_metric_search(initial_tanker_from_receiver);
-  }
-  CachedNearest to_model(own_surface ? *surface_tree_ : *model_tree_, metric ? 0 : sensed.size(), true, search_radius);
-  std::unique_ptr<KdTree3d> sensed_tree;
-  std::unique_ptr<CachedNearest> to_sensed;
-  if (symmetric) {
-    sensed_tree = std::make_unique<KdTree3d>(sensed, o.kdtree_leaf_size);
-    to_sensed = std::make_unique<CachedNearest>(*sensed_tree, model_.size(), true, search_radius);
-  }
+  const PairingInputs in{
+      sensed,   noise,     centre, own_surface ? surface_ : model_, own_surface ? surface_normals_ : normals_, model_,
+      normals_, geometry_, o};
+  PairingSearches searches =
+      MakeSearches(in, own_surface ? *surface_tree_ : *model_tree_, initial_tanker_from_receiver);
 
   RegistrationResult result;
   result.tanker_from_receiver = initial_tanker_from_receiver;
@@ -248,85 +374,15 @@ RegistrationResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vecto
   // nearest-neighbour cache, so they are the expensive ones.
   size_t coarse =
       std::max<size_t>(1, std::min(o.coarse_stride, sensed.size() / std::max<size_t>(1, o.coarse_min_points)));
-  // p -> centre + R_w (p - centre) + v for step = (w, v)
-  const auto apply = [&result, &centre](const Eigen::Matrix<double, 6, 1>& step) {
-    const Eigen::Vector3d w = step.head<3>();
-    const double angle = w.norm();
-    Eigen::Isometry3d increment = Eigen::Isometry3d::Identity();
-    if (angle > 0.0) increment.linear() = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
-    increment.translation() = centre + step.tail<3>() - increment.linear() * centre;
-    result.tanker_from_receiver = increment * result.tanker_from_receiver;
-  };
   for (int k = 0;; ++k) {
-    const Eigen::Isometry3d& tanker_from_receiver = result.tanker_from_receiver;
-    const Eigen::Isometry3d receiver_from_tanker = tanker_from_receiver.inverse();
-    const Eigen::Matrix3d rotation = tanker_from_receiver.linear();
-    if (metric) {
-      const Eigen::Isometry3d receiver_from_camera_then = metric_search.camera_from_receiver.inverse();
-      const Eigen::Isometry3d camera_now_from_receiver = metric_search.camera_from_tanker * tanker_from_receiver;
-      const Eigen::Isometry3d change = camera_now_from_receiver * receiver_from_camera_then;
-      const double turn =
-          Eigen::AngleAxisd(change.linear()).angle() +
-          (receiver_from_camera_then.translation() - camera_now_from_receiver.inverse().translation()).norm() / range_m;
-      if (turn > max_ray_turn_rad) build_metric_search(tanker_from_receiver);
-    }
+    if (metric) searches.UpdateMetric(in, result.tanker_from_receiver);
     NormalEquations equations;
     equations.noise_bias = o.noise_bias_correction && coarse == 1;
     double sum_squared = 0.0;
-    size_t inliers = 0;
-    for (size_t i = 0; i < sensed.size(); i += coarse) {
-      const Eigen::Vector3d in_receiver = receiver_from_tanker * sensed[i];
-      size_t j = CachedNearest::kNone;
-      double squared = 0.0;
-      if (metric) {
-        Eigen::Vector3d mapped;
-        if (!metric_search.Map(in_receiver, mapped)) continue;
-        j = to_metric->Find(i, mapped).first;
-        if (j == CachedNearest::kNone) continue;
-        j = metric_search.index[j];
-        squared = SquaredDistance(in_receiver, surface[j]);
-      } else {
-        std::tie(j, squared) = to_model.Find(i, in_receiver);
-        if (j == CachedNearest::kNone) continue;
-      }
-      if (squared > noise[i].gate_squared) continue;
-      const Eigen::Vector3d p = tanker_from_receiver * surface[j];
-      const Eigen::Vector3d n = rotation * surface_normals[j];
-      if (o.residual == PlaneResidual::kMetric) {
-        equations.Add(p, n, sensed[i], noise[i], centre, o, static_cast<double>(coarse), sum_squared, sensed[i]);
-      } else if (o.residual == PlaneResidual::kMetricRay) {
-        equations.Add(p, n, sensed[i], noise[i], centre, o, static_cast<double>(coarse), sum_squared,
-                      RayLever(p, n, sensed[i], noise[i], geometry_));
-      } else if (!equations.AddDisparity(p, n, sensed[i], noise[i], geometry_, centre, o, static_cast<double>(coarse),
-                                         sum_squared)) {
-        // Oblique to the ray: the metric residual, its noise and lever arm from the model point.
-        equations.Add(p, n, sensed[i], NoiseAt(p, geometry_, o), centre, o, static_cast<double>(coarse), sum_squared,
-                      p);
-      }
-      ++inliers;
-    }
-    inliers *= coarse;
-    if (symmetric) {
-      double unused = 0.0;
-      // Each direction weighs as much in total as the other, whatever the
-      // model's and the cloud's sizes.
-      const double balance =
-          o.balance_directions ? static_cast<double>(sensed.size()) / static_cast<double>(model_.size()) : 1.0;
-      // Every stride-th model point, each standing for stride of them.
-      const size_t stride =
-          coarse * (o.max_model_queries > 0 ? (model_.size() + o.max_model_queries - 1) / o.max_model_queries : 1);
-      for (size_t j = 0; j < model_.size(); j += stride) {
-        const Eigen::Vector3d p = tanker_from_receiver * model_[j];
-        const auto [i, squared] = to_sensed->Find(j, p);
-        if (i == CachedNearest::kNone || squared > noise[i].gate_squared) continue;
-        const double pull =
-            o.model_pull_scale_m > 0.0
-                ? noise[i].ray_variance / (noise[i].ray_variance + o.model_pull_scale_m * o.model_pull_scale_m)
-                : 1.0;
-        equations.Add(p, rotation * normals_[j], sensed[i], noise[i], centre, o,
-                      pull * balance * static_cast<double>(stride), unused, sensed[i]);
-      }
-    }
+    const size_t inliers =
+        coarse * AddSensedPairs(in, searches, result.tanker_from_receiver, coarse, equations, sum_squared);
+    if (o.pairing == PlanePairing::kSymmetric)
+      AddModelPairs(in, searches, result.tanker_from_receiver, coarse, equations);
     const double rmse =
         inliers > 0 ? std::sqrt(sum_squared * static_cast<double>(coarse) / static_cast<double>(inliers)) : 0.0;
     if (k == 0) result.initial_rmse_m = rmse;
@@ -338,7 +394,7 @@ RegistrationResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vecto
         double scale_squared = 0.0;
         const Eigen::Matrix<double, 6, 1> step = equations.NoiseBiasStep(scale_squared);
         if (step.allFinite()) {
-          apply(step);
+          result.tanker_from_receiver = ApplyStep(step, centre, result.tanker_from_receiver);
           result.noise_scale = std::sqrt(scale_squared);
         }
       }
@@ -349,7 +405,7 @@ RegistrationResult PlaneIcpRegistration::Register(const std::vector<Eigen::Vecto
     if (!step.allFinite()) break;
     const double angle = step.head<3>().norm();
     const double move = step.tail<3>().norm();
-    apply(step);
+    result.tanker_from_receiver = ApplyStep(step, centre, result.tanker_from_receiver);
     ++result.iterations;
     if (coarse > 1) {
       if (move < 10.0 * o.translation_tolerance_m && angle < 10.0 * o.rotation_tolerance_rad) coarse = 1;
