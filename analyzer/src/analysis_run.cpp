@@ -317,6 +317,74 @@ void EnableCorrections(FrameAnalyzer& analyzer, const AnalysisRunOptions& option
   }
 }
 
+// The run's record (run.json).
+nlohmann::json RunRecord(const RunInputs& in, const RunCalibration& calibration, const ReferenceModel& reference,
+                         const BopObject& bop_object) {
+  const AnalysisRunOptions& options = in.options;
+  return {{"schema", "aar-run/1"},
+          {"dataset_manifest_sha256", Sha256File(options.dataset / kManifestName)},
+          {"model", reference.name},
+          {"reference_points", reference.points_in_receiver.size()},
+          {"calibration", calibration.source},
+          {"frames", DescribeSelection(options.selection)},
+          {"frames_analyzed", in.selected.size()},
+          {"options", OptionsJson(options)},
+          {"bop", BopJson(bop_object, in.rig.left)}};
+}
+
+// The run's calibration and reference model, into its output folder `out`.
+void WriteRunInputs(const std::filesystem::path& out, const RunCalibration& calibration,
+                    const ReferenceModel& reference) {
+  if (calibration.calibrated) {
+    WriteCalibrationOutputs(out, *calibration.calibrated);
+  } else {
+    WriteCalibration(out / kCalibrationYamlName, calibration.calibration);
+  }
+  WritePly(out / ("reference_" + reference.name + ".ply"), reference.points_in_receiver,
+           {"aar-analyze reference model '" + reference.name + "', receiver frame, metres"});
+}
+
+// A frame the analysis stopped on before reading its sidecar: its time,
+// truth, range and region from the flight path.
+void FillFromFlightPath(FrameResult& frame, const RunInputs& in, size_t index) {
+  if (frame.range_m != 0.0 || index >= in.flight_path.size()) return;
+  frame.time_s = in.flight_path[index].time_s;
+  frame.truth = in.flight_path[index].tanker_from_receiver;
+  frame.range_m = (frame.truth.translation_m - in.rig.left.tanker_from_camera.translation()).norm();
+  frame.region = RegionForRange(frame.range_m);
+}
+
+// The bench's StereoBM yardstick, timed between frames spread over the run,
+// so that it sees the machine's load as they do.
+class YardstickSamples {
+ public:
+  YardstickSamples(const AnalysisRunOptions& options, const StereoCalibration& calibration, size_t frames)
+      : stride_(std::max<size_t>(1, frames / std::max<size_t>(1, options.yardstick_frames))) {
+    if (options.yardstick_frames > 0) whole_rectifier_.emplace(calibration);
+  }
+
+  // Times the yardstick on frame `index` when it is the analyzed-th frame's turn.
+  void After(const AnalysisRunOptions& options, const Manifest& manifest, const FrameResult& frame, size_t index,
+             size_t analyzed) {
+    if (whole_rectifier_ && frame.ok() && analyzed % stride_ == 0) {
+      times_ms_.push_back(TimeStereoBmYardstick(options.dataset, manifest, *whole_rectifier_, index));
+    }
+  }
+
+  // The median time [ms]; none when none was timed.
+  std::optional<double> MedianMs() {
+    if (times_ms_.empty()) return std::nullopt;
+    const auto middle = times_ms_.begin() + static_cast<std::ptrdiff_t>(times_ms_.size() / 2);
+    std::nth_element(times_ms_.begin(), middle, times_ms_.end());
+    return *middle;
+  }
+
+ private:
+  std::optional<Rectifier> whole_rectifier_;  // the whole image's
+  size_t stride_;
+  std::vector<double> times_ms_;
+};
+
 }  // namespace
 
 AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
@@ -334,28 +402,14 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   const BopObject bop_object(mesh);
   FrameAnalyzer analyzer(calibration.calibration, rig.left.tanker_from_camera, reference, options.frame, &full_surface);
   EnableCorrections(analyzer, options, in.manifest, mesh);
-  const nlohmann::json run = {{"schema", "aar-run/1"},
-                              {"dataset_manifest_sha256", Sha256File(options.dataset / kManifestName)},
-                              {"model", reference.name},
-                              {"reference_points", reference.points_in_receiver.size()},
-                              {"calibration", calibration.source},
-                              {"frames", DescribeSelection(options.selection)},
-                              {"frames_analyzed", in.selected.size()},
-                              {"options", OptionsJson(options)},
-                              {"bop", BopJson(bop_object, rig.left)}};
+  const nlohmann::json run = RunRecord(in, calibration, reference, bop_object);
   // Written into a staging folder and put in place at the end (output_folder.h).
   std::optional<StagedOutput> staged;
   std::filesystem::path out;
   if (options.write_outputs) {
     staged.emplace(options.out, "run");
     out = staged->path();
-    if (calibration.calibrated) {
-      WriteCalibrationOutputs(out, *calibration.calibrated);
-    } else {
-      WriteCalibration(out / kCalibrationYamlName, calibration.calibration);
-    }
-    WritePly(out / ("reference_" + reference.name + ".ply"), reference.points_in_receiver,
-             {"aar-analyze reference model '" + reference.name + "', receiver frame, metres"});
+    WriteRunInputs(out, calibration, reference);
   }
 
   AnalysisRunResult result;
@@ -365,11 +419,7 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   const std::set<size_t> dump_frames(options.dump_frames.begin(), options.dump_frames.end());
   const DumpProjection projection =
       dump_frames.empty() ? DumpProjection{} : DumpProjectionOf(calibration.calibration, rig, reference);
-  std::optional<Rectifier> whole_rectifier;  // the yardstick's
-  if (options.yardstick_frames > 0) whole_rectifier.emplace(calibration.calibration);
-  const size_t yardstick_stride =
-      std::max<size_t>(1, in.selected.size() / std::max<size_t>(1, options.yardstick_frames));
-  std::vector<double> yardstick;  // [ms]
+  YardstickSamples yardstick(options, calibration.calibration, in.selected.size());
   for (size_t index : in.selected) {
     FrameDump dump;
     const bool dumped = options.write_outputs && dump_frames.contains(index);
@@ -381,29 +431,17 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
       history.before_last = history.last;
       history.last = std::make_pair(frame.time_s, frame.estimate);
     } else {
-      if (frame.range_m == 0.0 && index < in.flight_path.size()) {
-        frame.time_s = in.flight_path[index].time_s;
-        frame.truth = in.flight_path[index].tanker_from_receiver;
-        frame.range_m = (frame.truth.translation_m - rig.left.tanker_from_camera.translation()).norm();
-        frame.region = RegionForRange(frame.range_m);
-      }
+      FillFromFlightPath(frame, in, index);
       history = TrackHistory{};
       if (options.progress) std::fprintf(stderr, "frame %zu not measured: %s\n", index, frame.status.c_str());
     }
-    // Timed between the frames, spread over the run, so that it sees the machine's load as they do.
-    if (whole_rectifier && frame.ok() && result.frames.size() % yardstick_stride == 0) {
-      yardstick.push_back(TimeStereoBmYardstick(options.dataset, in.manifest, *whole_rectifier, index));
-    }
+    yardstick.After(options, in.manifest, frame, index, result.frames.size());
     ScoreFrame(frame, depth, bop_object, mesh, rig);
     result.frames.push_back(std::move(frame));
     if (options.progress) progress.Advance();
   }
   if (options.progress) progress.Finish();
-  if (!yardstick.empty()) {
-    const auto middle = yardstick.begin() + static_cast<std::ptrdiff_t>(yardstick.size() / 2);
-    std::nth_element(yardstick.begin(), middle, yardstick.end());
-    result.yardstick_ms = *middle;
-  }
+  result.yardstick_ms = yardstick.MedianMs();
   FilterFrameResults(result.frames, options.filter);
   result.summary = SummarizeFrames(reference.name, result.frames, BopScaleOf(run));
   if (options.write_outputs) {
