@@ -244,6 +244,41 @@ size_t FrameAnalyzer::PropellersKept(const SensedCloud& cloud, const std::vector
       .size();
 }
 
+struct FrameAnalyzer::SensedRegion {
+  cv::Mat rect_left, rect_right;
+  std::unique_ptr<SubpixelRefiner> refiner;
+  SensedCloud cloud;
+};
+
+FrameAnalyzer::SensedRegion FrameAnalyzer::Sense(const FrameInputs& in, const cv::Rect& region,
+                                                 const DisparityOptions& disparity_options, FrameResult& r,
+                                                 FrameDump* dump) const {
+  SensedRegion sensed;
+  auto start = std::chrono::steady_clock::now();
+  rectifier_.Rectify(in.left, in.right, sensed.rect_left, sensed.rect_right, region);
+  r.times.rectify_ms += MillisecondsSince(start);
+  if (options_.refine_subpixel) {
+    sensed.refiner =
+        std::make_unique<SubpixelRefiner>(sensed.rect_left, sensed.rect_right, options_.subpixel, region.tl());
+  }
+
+  const DisparityMap disparity =
+      Match(sensed.rect_left, sensed.rect_right, region, disparity_options, in.boom, r, dump);
+
+  start = std::chrono::steady_clock::now();
+  ReprojectionOptions reprojection = options_.reprojection;
+  if (options_.remove_rounding_bias) reprojection.matcher_bias_px = MatcherRoundingBiasPx(disparity_options.algorithm);
+  sensed.cloud = Reproject(disparity.disparity16, disparity.invalid_value16, calibration_, tanker_from_left_,
+                           reprojection, sensed.refiner.get(), region.tl());
+  r.sensed_points = sensed.cloud.points_in_tanker.size();
+  r.times.reproject_ms += MillisecondsSince(start);
+  if (sensed.cloud.points_in_tanker.size() < options_.min_sensed_points) {
+    throw Error(in.left_path + ": only " + std::to_string(sensed.cloud.points_in_tanker.size()) +
+                " sensed points (receiver out of view?)");
+  }
+  return sensed;
+}
+
 RegistrationResult FrameAnalyzer::Measure(const FrameInputs& in, const cv::Rect& roi, int num_disparities,
                                           const std::optional<Pose>& seed, FrameResult& r, FrameDump* dump) const {
   // The region computed: the receiver's predicted box and, to its left, the
@@ -257,45 +292,23 @@ RegistrationResult FrameAnalyzer::Measure(const FrameInputs& in, const cv::Rect&
     return cv::Rect(cv::Point(roi.x - reach, roi.y - d.block_size), cv::Point(roi.br().x, roi.br().y + d.block_size)) &
            image;
   };
-  SensedCloud cloud;
   RegistrationResult icp;
   r.times.rectify_ms = r.times.disparity_ms = r.times.reproject_ms = r.times.icp_ms = 0.0;
   for (int attempt = 0;; ++attempt) {
     const cv::Rect region = compute_region(disparity_options);
-    auto start = std::chrono::steady_clock::now();
-    cv::Mat rect_left, rect_right;
-    rectifier_.Rectify(in.left, in.right, rect_left, rect_right, region);
-    r.times.rectify_ms += MillisecondsSince(start);
-    const std::unique_ptr<SubpixelRefiner> refiner =
-        options_.refine_subpixel
-            ? std::make_unique<SubpixelRefiner>(rect_left, rect_right, options_.subpixel, region.tl())
-            : nullptr;
-
-    const DisparityMap disparity = Match(rect_left, rect_right, region, disparity_options, in.boom, r, dump);
-
-    start = std::chrono::steady_clock::now();
-    ReprojectionOptions reprojection = options_.reprojection;
-    if (options_.remove_rounding_bias)
-      reprojection.matcher_bias_px = MatcherRoundingBiasPx(disparity_options.algorithm);
-    cloud = Reproject(disparity.disparity16, disparity.invalid_value16, calibration_, tanker_from_left_, reprojection,
-                      refiner.get(), region.tl());
-    r.sensed_points = cloud.points_in_tanker.size();
-    r.times.reproject_ms += MillisecondsSince(start);
-    if (cloud.points_in_tanker.size() < options_.min_sensed_points) {
-      throw Error(in.left_path + ": only " + std::to_string(cloud.points_in_tanker.size()) +
-                  " sensed points (receiver out of view?)");
-    }
+    SensedRegion sensed = Sense(in, region, disparity_options, r, dump);
+    SensedCloud& cloud = sensed.cloud;
     std::vector<size_t> blades;  // the sensed points on the propeller blades (depth truth)
     if (in.truth) CompareCloudWithTruth(*in.truth, cloud, r, blades);
 
     if (dump != nullptr) dump->sensed_in_tanker = cloud.points_in_tanker;
 
-    start = std::chrono::steady_clock::now();
+    const auto start = std::chrono::steady_clock::now();
     icp = Register(cloud.points_in_tanker, seed);
     MaskPropellersAndRegister(cloud.points_in_tanker, icp);
-    const bool corrected = options_.correct_window_bias && refiner && receiver_mesh_ &&
+    const bool corrected = options_.correct_window_bias && sensed.refiner && receiver_mesh_ &&
                            !options_.register_truth_cloud &&
-                           CorrectWindowBias(rect_left, rect_right, region, cloud, icp);
+                           CorrectWindowBias(sensed.rect_left, sensed.rect_right, region, cloud, icp);
     if (dump != nullptr) {
       dump->sensed_in_tanker = cloud.points_in_tanker;
       dump->pixels = cloud.pixels;

@@ -238,6 +238,13 @@ class FrameAnalyzer {
   DisparityMap Match(const cv::Mat& rect_left, const cv::Mat& rect_right, const cv::Rect& region,
                      const DisparityOptions& disparity_options, const BoomMasks* boom, FrameResult& r,
                      FrameDump* dump) const;
+  // One region's rectified pair, its refiner (options.refine_subpixel) and
+  // the cloud re-projected from its disparities.
+  struct SensedRegion;
+  // Rectifies, matches and re-projects `region` (stage times and dump filled
+  // in); throws aar::Error when fewer than min_sensed_points remain.
+  SensedRegion Sense(const FrameInputs& in, const cv::Rect& region, const DisparityOptions& disparity_options,
+                     FrameResult& r, FrameDump* dump) const;
   // The cloud against depth truth (r.stereo_truth) and the indices of its
   // points on the propeller blades (`blades`); with
   // options.register_truth_cloud the cloud becomes the ideal one.
