@@ -59,6 +59,126 @@ bool OnOutline(double x, double y, double hx, double hy, double r, double width 
   return InRoundedRect(x, y, hx, hy, r) && !InRoundedRect(x, y, hx - width, hy - width, std::max(r - width, 0.0));
 }
 
+// A point of the fuselage surface in the coordinates its paint is laid out in.
+struct FuselageSpot {
+  Vec3 p;
+  double s;       // station, m aft of the nose tip
+  double zeta;    // -1 bottom, 0 widest, +1 top
+  double phi;     // 0 bottom, pi/2 left side, pi top
+  bool left;      // on the left side (+y)
+  double radius;  // mean radius of the section
+  double around;  // approximate arc length from the bottom centre line
+};
+
+FuselageSpot FuselageSpotAt(const Body& body, double u, double v) {
+  FuselageSpot f;
+  f.p = body.Point(u, v);
+  f.s = body.Station(u);
+  f.zeta = body.SectionHeight(v);
+  f.phi = 2.0 * kPi * v;
+  f.left = f.p.y() >= 0.0;
+  const BodyTables& t = body.tables();
+  f.radius = 0.5 * (t.half_width(f.s) + 0.5 * (t.z_top(f.s) - t.z_bottom(f.s)));
+  f.around = f.phi * f.radius;
+  return f;
+}
+
+// Colour, shade and weathering strength of a fuselage point before weathering.
+struct FuselageFinish {
+  Color color;
+  double shade = 1.0;
+  double glass_weather = 1.0;
+};
+
+// The paint scheme of the fuselage and its markings.
+Color FuselagePaint(const FuselageSpot& f) {
+  const double s = f.s, zeta = f.zeta;
+  Color c = zeta < -0.52 ? kBellyGrey : kWhite;
+  if (s > 0.5 && s < 12.9) {
+    if (zeta > -0.42 && zeta < -0.20)
+      c = kCheatBlue;
+    else if (zeta > -0.16 && zeta < -0.12)
+      c = kPinstripeRed;
+  }
+  if (s < kFuselageJoints.front()) c = kRadome;
+  if (s > kFuselageJoints.back()) c = kRadome;  // tail cone cap with the tail light
+  if (s > 1.45 && s < 2.47 && zeta > 0.5) c = kAntiGlare;
+
+  // Markings: "U.S. ARMY" on both sides of the aft fuselage, reading correctly from outside.
+  constexpr double kTextStation = 10.55, kTextZ = 0.26, kTextHeight = 0.24;
+  if (TextInk("U.S. ARMY", f.left ? s - kTextStation : kTextStation - s, f.p.z() - kTextZ, kTextHeight)) c = kInk;
+  return c;
+}
+
+// Darkens `shade` on the skin's joints, lap joints and the rivet rows of the laps and frames.
+void ShadeSkinJoints(const FuselageSpot& f, double& shade) {
+  for (double joint : kFuselageJoints) {
+    if (IsNear(f.s - joint)) shade *= kPanelLine;
+  }
+  const double lap = DistanceToGrid(f.phi, kLapJointPitch, 0.5 * kLapJointPitch) * f.radius;
+  if (IsNear(lap)) shade *= kPanelLine;
+  if (OnRivet(f.s, lap - 0.02, 0.05)) shade *= kRivet;
+  if (OnRivet(f.around, DistanceToGrid(f.s, kFrameSpacing, 0.3))) shade *= kRivet;
+}
+
+// Antennas on the belly and the spine, anti-collision beacons.
+void PaintAntennasAndBeacons(const FuselageSpot& f, Color& c) {
+  const double s = f.s, zeta = f.zeta;
+  const Vec3& p = f.p;
+  for (double station : {4.6, 6.9, 8.2}) {
+    if (zeta < -0.97 && std::abs(p.y()) < 0.025 && std::abs(s - station) < 0.12) c = kInk;
+  }
+  for (double station : {4.0, 7.4}) {
+    if (zeta > 0.97 && std::abs(p.y()) < 0.025 && std::abs(s - station) < 0.10) c = kInk;
+  }
+  if (std::hypot(s - 9.6, p.y()) < 0.05 && zeta > 0) c = kNavRed;
+  if (std::hypot(s - 8.4, p.y()) < 0.05 && zeta < 0) c = kNavRed;
+}
+
+// Doors: airstair door (left, aft), emergency exit (right, over the wing).
+void AddDoors(const FuselageSpot& f, FuselageFinish& finish) {
+  const double s = f.s;
+  const Vec3& p = f.p;
+  if (f.left && OnOutline(s - 9.10, p.z() + 0.05, 0.35, 0.66, 0.08)) finish.shade *= kPanelLine;
+  if (f.left && InRoundedRect(s - 9.36, p.z() - 0.02, 0.05, 0.018, 0.01)) finish.color = kInk;
+  if (!f.left && OnOutline(s - (kCabinWindowFirst + 2 * kCabinWindowPitch), p.z() - 0.28, 0.28, 0.33, 0.06)) {
+    finish.shade *= kPanelLine;
+  }
+}
+
+// Glass where `inside`, its frame where `frame`: unshaded, the glass weathering less.
+void Glaze(bool inside, bool frame, double zeta, FuselageFinish& finish) {
+  if (frame) {
+    finish.color = kFrame;
+    finish.shade = 1.0;
+  } else if (inside) {
+    finish.color = kGlass + Color::Constant(0.05 * std::clamp(zeta, 0.0, 1.0));  // sky reflection towards the top
+    finish.shade = 1.0;
+    finish.glass_weather = 0.4;
+  }
+}
+
+// Glazing: windscreen (two panes either side of a centre post), cockpit
+// side windows, seven cabin windows a side.
+void AddGlazing(const FuselageSpot& f, FuselageFinish& finish) {
+  const double s = f.s, zeta = f.zeta;
+  const Vec3& p = f.p;
+  {
+    const double aft_edge_zeta = 0.32 + 0.35 * (s - 2.48) / 0.58;
+    const bool region = s > 2.48 && s < 3.06 && zeta > aft_edge_zeta;
+    const bool pane = s > 2.51 && s < 3.03 && zeta > aft_edge_zeta + 0.05 && std::abs(p.y()) > 0.045;
+    Glaze(pane, region && !pane, zeta, finish);
+  }
+  {
+    const double x = s - 3.46, y = p.z() - 0.37;
+    Glaze(InRoundedRect(x, y, 0.30, 0.17, 0.06), OnOutline(x, y, 0.32, 0.19, 0.07, 0.02), zeta, finish);
+  }
+  for (int k = 0; k < kCabinWindows; ++k) {
+    const double x = s - (kCabinWindowFirst + k * kCabinWindowPitch), y = p.z() - 0.30;
+    Glaze(InRoundedRect(x, y, 0.15, 0.18, 0.06), OnOutline(x, y, 0.165, 0.195, 0.07, 0.015), zeta, finish);
+  }
+}
+
 }  // namespace
 
 C12Livery::C12Livery(const C12Airframe& airframe, std::uint64_t seed)
@@ -121,96 +241,29 @@ double C12Livery::AccessPanel(std::int64_t part, std::int64_t i, std::int64_t j,
 }
 
 Color C12Livery::Fuselage(double u, double v) const {
-  const Body& body = airframe_.fuselage;
-  const Vec3 p = body.Point(u, v);
-  const double s = body.Station(u);
-  const double zeta = body.SectionHeight(v);  // -1 bottom, 0 widest, +1 top
-  const double phi = 2.0 * kPi * v;           // 0 bottom, pi/2 left side, pi top
-  const bool left = p.y() >= 0.0;
-  const BodyTables& t = body.tables();
-  const double radius = 0.5 * (t.half_width(s) + 0.5 * (t.z_top(s) - t.z_bottom(s)));
-  const double around = phi * radius;  // approximate arc length from the bottom centre line
-
-  Color c = zeta < -0.52 ? kBellyGrey : kWhite;
-  if (s > 0.5 && s < 12.9) {
-    if (zeta > -0.42 && zeta < -0.20)
-      c = kCheatBlue;
-    else if (zeta > -0.16 && zeta < -0.12)
-      c = kPinstripeRed;
-  }
-  if (s < kFuselageJoints.front()) c = kRadome;
-  if (s > kFuselageJoints.back()) c = kRadome;  // tail cone cap with the tail light
-  if (s > 1.45 && s < 2.47 && zeta > 0.5) c = kAntiGlare;
-
-  // Markings: "U.S. ARMY" on both sides of the aft fuselage, reading correctly from outside.
-  constexpr double kTextStation = 10.55, kTextZ = 0.26, kTextHeight = 0.24;
-  if (TextInk("U.S. ARMY", left ? s - kTextStation : kTextStation - s, p.z() - kTextZ, kTextHeight)) c = kInk;
+  const FuselageSpot f = FuselageSpotAt(airframe_.fuselage, u, v);
+  FuselageFinish finish;
+  finish.color = FuselagePaint(f);
 
   // Skin panels: shade per panel, joints, frames with rivet rows, access panels.
-  const auto bay = static_cast<std::int64_t>(std::upper_bound(kFuselageJoints.begin(), kFuselageJoints.end(), s) -
+  const auto bay = static_cast<std::int64_t>(std::upper_bound(kFuselageJoints.begin(), kFuselageJoints.end(), f.s) -
                                              kFuselageJoints.begin());
-  const auto strip = static_cast<std::int64_t>(std::floor((phi - 0.5 * kLapJointPitch) / kLapJointPitch));
-  double shade = PanelShade(1, bay, strip);
-  if (s > kFuselageJoints.front() && s < kFuselageJoints.back()) {
-    for (double joint : kFuselageJoints) {
-      if (IsNear(s - joint)) shade *= kPanelLine;
-    }
-    const double lap = DistanceToGrid(phi, kLapJointPitch, 0.5 * kLapJointPitch) * radius;
-    if (IsNear(lap)) shade *= kPanelLine;
-    if (OnRivet(s, lap - 0.02, 0.05)) shade *= kRivet;
-    if (OnRivet(around, DistanceToGrid(s, kFrameSpacing, 0.3))) shade *= kRivet;
-    const bool panels_here = zeta < -0.1 || s < 2.4 || s > 9.6;
+  const auto strip = static_cast<std::int64_t>(std::floor((f.phi - 0.5 * kLapJointPitch) / kLapJointPitch));
+  finish.shade = PanelShade(1, bay, strip);
+  if (f.s > kFuselageJoints.front() && f.s < kFuselageJoints.back()) {
+    ShadeSkinJoints(f, finish.shade);
+    const bool panels_here = f.zeta < -0.1 || f.s < 2.4 || f.s > 9.6;
     if (panels_here && bay > 0 && bay < static_cast<std::int64_t>(kFuselageJoints.size())) {
-      const double b0 = (0.5 * kLapJointPitch + static_cast<double>(strip) * kLapJointPitch) * radius;
-      shade *= AccessPanel(1, bay, strip, kFuselageJoints[static_cast<std::size_t>(bay - 1)],
-                           kFuselageJoints[static_cast<std::size_t>(bay)], b0, b0 + kLapJointPitch * radius, s, around);
+      const double b0 = (0.5 * kLapJointPitch + static_cast<double>(strip) * kLapJointPitch) * f.radius;
+      finish.shade *= AccessPanel(1, bay, strip, kFuselageJoints[static_cast<std::size_t>(bay - 1)],
+                                  kFuselageJoints[static_cast<std::size_t>(bay)], b0, b0 + kLapJointPitch * f.radius,
+                                  f.s, f.around);
     }
   }
-  // Antennas on the belly and the spine, anti-collision beacons.
-  for (double station : {4.6, 6.9, 8.2}) {
-    if (zeta < -0.97 && std::abs(p.y()) < 0.025 && std::abs(s - station) < 0.12) c = kInk;
-  }
-  for (double station : {4.0, 7.4}) {
-    if (zeta > 0.97 && std::abs(p.y()) < 0.025 && std::abs(s - station) < 0.10) c = kInk;
-  }
-  if (std::hypot(s - 9.6, p.y()) < 0.05 && zeta > 0) c = kNavRed;
-  if (std::hypot(s - 8.4, p.y()) < 0.05 && zeta < 0) c = kNavRed;
-
-  // Doors: airstair door (left, aft), emergency exit (right, over the wing).
-  if (left && OnOutline(s - 9.10, p.z() + 0.05, 0.35, 0.66, 0.08)) shade *= kPanelLine;
-  if (left && InRoundedRect(s - 9.36, p.z() - 0.02, 0.05, 0.018, 0.01)) c = kInk;
-  if (!left && OnOutline(s - (kCabinWindowFirst + 2 * kCabinWindowPitch), p.z() - 0.28, 0.28, 0.33, 0.06)) {
-    shade *= kPanelLine;
-  }
-
-  // Glazing: windscreen (two panes either side of a centre post), cockpit
-  // side windows, seven cabin windows a side.
-  double glass_weather = 1.0;
-  auto glaze = [&](bool inside, bool frame) {
-    if (frame) {
-      c = kFrame;
-      shade = 1.0;
-    } else if (inside) {
-      c = kGlass + Color::Constant(0.05 * std::clamp(zeta, 0.0, 1.0));  // sky reflection towards the top
-      shade = 1.0;
-      glass_weather = 0.4;
-    }
-  };
-  {
-    const double aft_edge_zeta = 0.32 + 0.35 * (s - 2.48) / 0.58;
-    const bool region = s > 2.48 && s < 3.06 && zeta > aft_edge_zeta;
-    const bool pane = s > 2.51 && s < 3.03 && zeta > aft_edge_zeta + 0.05 && std::abs(p.y()) > 0.045;
-    glaze(pane, region && !pane);
-  }
-  {
-    const double x = s - 3.46, y = p.z() - 0.37;
-    glaze(InRoundedRect(x, y, 0.30, 0.17, 0.06), OnOutline(x, y, 0.32, 0.19, 0.07, 0.02));
-  }
-  for (int k = 0; k < kCabinWindows; ++k) {
-    const double x = s - (kCabinWindowFirst + k * kCabinWindowPitch), y = p.z() - 0.30;
-    glaze(InRoundedRect(x, y, 0.15, 0.18, 0.06), OnOutline(x, y, 0.165, 0.195, 0.07, 0.015));
-  }
-  return Weather(c * shade, p, glass_weather);
+  PaintAntennasAndBeacons(f, finish.color);
+  AddDoors(f, finish);
+  AddGlazing(f, finish);
+  return Weather(finish.color * finish.shade, f.p, finish.glass_weather);
 }
 
 Color C12Livery::Wing(double u, double v) const {

@@ -336,24 +336,84 @@ std::string PoseStampedMessage(uint32_t seq, const RosTime& stamp, const Eigen::
   return m.bytes();
 }
 
-}  // namespace
-
-ExportResult ExportRosbag(const ExportOptions& options) {
-  const ExportSource source = ReadExportSource(options);
-  const StereoCalibration calibration = ReadIdealCalibration(source);
+// The run's measured frames (status ok) by frame index, pointing into `run`.
+std::map<size_t, const FrameResult*> MeasuredFramesByIndex(const std::vector<FrameResult>& run) {
   std::map<size_t, const FrameResult*> estimates;
-  const std::vector<FrameResult> run = ReadRunEstimates(options);
   for (const FrameResult& r : run) {
     if (r.ok()) estimates[r.frame] = &r;
   }
+  return estimates;
+}
 
+// The bag's connections, each at the index of its id; /receiver/pose_estimate
+// (id 7) only with a run.
+std::vector<Connection> BagConnections(bool with_run) {
   std::vector<Connection> connections = {
       {0, "/tf_static", TfMessageType(), true},           {1, "/stereo/left/image_raw", ImageType()},
       {2, "/stereo/left/camera_info", CameraInfoType()},  {3, "/stereo/right/image_raw", ImageType()},
       {4, "/stereo/right/camera_info", CameraInfoType()}, {5, "/tf", TfMessageType()},
       {6, "/receiver/pose_truth", PoseStampedType()},
   };
-  if (options.run) connections.push_back({7, "/receiver/pose_estimate", PoseStampedType()});
+  if (with_run) connections.push_back({7, "/receiver/pose_estimate", PoseStampedType()});
+  return connections;
+}
+
+// Adds the messages of frame `k` to `chunk`: /tf_static (first frame only),
+// both cameras' images and camera infos, /tf, the true pose and, where the
+// run measured the frame, the estimated pose.
+void AddFrameMessages(ChunkBuilder& chunk, const std::vector<Connection>& connections, const ExportSource& source,
+                      size_t k, const StereoCalibration& calibration, const FrameResult* estimate) {
+  const FrameSidecar& frame = source.frames[k];
+  const std::string sidecar = SidecarPath(source.dataset, "frame", frame.index).string();
+  const RosTime stamp = ToRosTime(frame.time_s, sidecar);
+  const uint32_t seq = static_cast<uint32_t>(frame.index);
+  if (k == 0) {
+    chunk.Add(connections[0], stamp,
+              TfMessage(seq, stamp,
+                        {{"left_camera", frame.rig.left.tanker_from_camera},
+                         {"right_camera", frame.rig.right.tanker_from_camera}}));
+  }
+  for (const bool left : {true, false}) {
+    const char* camera = left ? "left" : "right";
+    const std::string frame_id = std::string(camera) + "_camera";
+    const cv::Mat image =
+        ReadListedImage(source.dataset, source.manifest, RequireFile(source, frame, camera, "aar-render render"),
+                        cv::IMREAD_UNCHANGED, std::string(camera) + " image");
+    chunk.Add(connections[left ? 1 : 3], stamp, ImageMessage(image, seq, stamp, frame_id, sidecar));
+    chunk.Add(connections[left ? 2 : 4], stamp, CameraInfoMessage(calibration, left, seq, stamp, frame_id));
+  }
+  const Eigen::Isometry3d truth = IsometryFromPose(frame.tanker_from_target);
+  std::vector<Stamped> tf = {{"receiver", truth}};
+  if (estimate) tf.push_back({"receiver_estimate", IsometryFromPose(estimate->estimate)});
+  chunk.Add(connections[5], stamp, TfMessage(seq, stamp, tf));
+  chunk.Add(connections[6], stamp, PoseStampedMessage(seq, stamp, truth));
+  if (estimate) chunk.Add(connections[7], stamp, PoseStampedMessage(seq, stamp, tf.back().parent_from_child));
+}
+
+// Writes the index (the connection records, then the chunk info records) at
+// `out`'s position and rewrites the bag header record to point at it.
+void WriteBagIndex(std::ofstream& out, const std::vector<Connection>& connections,
+                   const std::vector<std::string>& chunk_infos) {
+  const uint64_t index_pos = static_cast<uint64_t>(out.tellp());
+  for (const Connection& c : connections) {
+    const std::string record = c.Record();
+    out.write(record.data(), static_cast<std::streamsize>(record.size()));
+  }
+  for (const std::string& info : chunk_infos) out.write(info.data(), static_cast<std::streamsize>(info.size()));
+  out.seekp(static_cast<std::streamoff>(std::string(kMagic).size()));
+  const std::string header =
+      BagHeaderRecord(index_pos, static_cast<uint32_t>(connections.size()), static_cast<uint32_t>(chunk_infos.size()));
+  out.write(header.data(), static_cast<std::streamsize>(header.size()));
+}
+
+}  // namespace
+
+ExportResult ExportRosbag(const ExportOptions& options) {
+  const ExportSource source = ReadExportSource(options);
+  const StereoCalibration calibration = ReadIdealCalibration(source);
+  const std::vector<FrameResult> run = ReadRunEstimates(options);
+  const std::map<size_t, const FrameResult*> estimates = MeasuredFramesByIndex(run);
+  const std::vector<Connection> connections = BagConnections(options.run.has_value());
 
   const std::filesystem::path path = options.out / kBagName;
   EnsureWritableDirectory(options.out);
@@ -367,48 +427,13 @@ ExportResult ExportRosbag(const ExportOptions& options) {
   ChunkBuilder chunk;
   size_t estimates_written = 0;
   for (size_t k = 0; k < source.frames.size(); ++k) {
-    const FrameSidecar& frame = source.frames[k];
-    const std::string sidecar = SidecarPath(source.dataset, "frame", frame.index).string();
-    const RosTime stamp = ToRosTime(frame.time_s, sidecar);
-    const uint32_t seq = static_cast<uint32_t>(frame.index);
-    if (k == 0) {
-      chunk.Add(connections[0], stamp,
-                TfMessage(seq, stamp,
-                          {{"left_camera", frame.rig.left.tanker_from_camera},
-                           {"right_camera", frame.rig.right.tanker_from_camera}}));
-    }
-    for (const bool left : {true, false}) {
-      const char* camera = left ? "left" : "right";
-      const std::string frame_id = std::string(camera) + "_camera";
-      const cv::Mat image =
-          ReadListedImage(source.dataset, source.manifest, RequireFile(source, frame, camera, "aar-render render"),
-                          cv::IMREAD_UNCHANGED, std::string(camera) + " image");
-      chunk.Add(connections[left ? 1 : 3], stamp, ImageMessage(image, seq, stamp, frame_id, sidecar));
-      chunk.Add(connections[left ? 2 : 4], stamp, CameraInfoMessage(calibration, left, seq, stamp, frame_id));
-    }
-    const Eigen::Isometry3d truth = IsometryFromPose(frame.tanker_from_target);
-    std::vector<Stamped> tf = {{"receiver", truth}};
-    const auto estimate = estimates.find(frame.index);
-    if (estimate != estimates.end()) tf.push_back({"receiver_estimate", IsometryFromPose(estimate->second->estimate)});
-    chunk.Add(connections[5], stamp, TfMessage(seq, stamp, tf));
-    chunk.Add(connections[6], stamp, PoseStampedMessage(seq, stamp, truth));
-    if (estimate != estimates.end()) {
-      chunk.Add(connections[7], stamp, PoseStampedMessage(seq, stamp, tf.back().parent_from_child));
-      ++estimates_written;
-    }
+    const auto estimate = estimates.find(source.frames[k].index);
+    const FrameResult* measured = estimate != estimates.end() ? estimate->second : nullptr;
+    AddFrameMessages(chunk, connections, source, k, calibration, measured);
+    if (measured) ++estimates_written;
     chunk_infos.push_back(chunk.Write(out));
   }
-
-  const uint64_t index_pos = static_cast<uint64_t>(out.tellp());
-  for (const Connection& c : connections) {
-    const std::string record = c.Record();
-    out.write(record.data(), static_cast<std::streamsize>(record.size()));
-  }
-  for (const std::string& info : chunk_infos) out.write(info.data(), static_cast<std::streamsize>(info.size()));
-  out.seekp(static_cast<std::streamoff>(std::string(kMagic).size()));
-  const std::string header =
-      BagHeaderRecord(index_pos, static_cast<uint32_t>(connections.size()), static_cast<uint32_t>(chunk_infos.size()));
-  out.write(header.data(), static_cast<std::streamsize>(header.size()));
+  WriteBagIndex(out, connections, chunk_infos);
   out.close();
   if (!out) throw Error(path.string() + ": write failed");
 

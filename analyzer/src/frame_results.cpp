@@ -18,6 +18,7 @@ constexpr int kTimeDecimals = 3;      // milliseconds
 constexpr size_t kColumns = 59;       // 60 with receiver_occluded_fraction
 constexpr size_t kFilterColumn = 34;  // first filt_est_* column
 constexpr size_t kBopColumn = 46;     // mssd_m, then mspd_px, add_m, adds_m, vsd_errors
+constexpr size_t kVsdColumn = kBopColumn + 4;
 
 const std::array<const char*, 4> kBopColumns = {"mssd_m", "mspd_px", "add_m", "adds_m"};
 
@@ -46,6 +47,134 @@ std::string CleanStatus(const std::string& status) {
     if (c == '\n' || c == '\r') c = ' ';
   }
   return s;
+}
+
+// Names a column (0-based index) of one CSV line in errors: "file:line column N".
+struct ColumnName {
+  std::string at;
+  std::string operator()(size_t i) const { return at + " column " + std::to_string(i + 1); }
+};
+
+// frame, time_s, region, range_m and status.
+void ParseFrameColumns(const std::vector<std::string>& fields, const ColumnName& column, FrameResult& f) {
+  f.frame = static_cast<size_t>(ParseInteger(fields[0], column(0)));
+  f.time_s = ParseFiniteDouble(fields[1], column(1));
+  f.region = fields[2];
+  if (f.region != "A" && f.region != "B" && f.region != "C" && f.region != "none") {
+    throw Error(column(2) + ": region '" + f.region + "' is not A, B, C or none");
+  }
+  f.range_m = ParseFiniteDouble(fields[3], column(3));
+  f.status = fields[4];
+  if (f.status.empty()) throw Error(column(4) + ": empty status");
+}
+
+// truth_*, est_* and err_*: the estimate and error only for a measured frame
+// or where they are not empty.
+void ParsePoseColumns(const std::vector<std::string>& fields, const ColumnName& column, FrameResult& f) {
+  SixDof truth, estimate;
+  for (size_t d = 0; d < 6; ++d) {
+    truth[d] = ParseFiniteDouble(fields[5 + d], column(5 + d));
+    const bool empty = fields[11 + d].empty() && fields[17 + d].empty();
+    if (f.ok() || !empty) {
+      f.has_estimate = true;
+      estimate[d] = ParseFiniteDouble(fields[11 + d], column(11 + d));
+      f.error[d] = ParseFiniteDouble(fields[17 + d], column(17 + d));
+    }
+  }
+  f.truth = PoseFromValues(truth);
+  f.estimate = PoseFromValues(estimate);
+}
+
+// sensed_points and the icp_* columns.
+void ParseIcpColumns(const std::vector<std::string>& fields, const ColumnName& column, FrameResult& f) {
+  f.sensed_points = static_cast<size_t>(ParseInteger(fields[23], column(23)));
+  f.icp_iterations = static_cast<int>(ParseInteger(fields[24], column(24)));
+  if (fields[25] != "0" && fields[25] != "1") throw Error(column(25) + ": icp_converged must be 0 or 1");
+  f.icp_converged = fields[25] == "1";
+  f.icp_rmse_m = ParseFiniteDouble(fields[26], column(26));
+  f.icp_inliers = static_cast<size_t>(ParseInteger(fields[27], column(27)));
+}
+
+// truth_points to truth_error_by_fraction (the propeller counts come later).
+void ParseStereoTruthColumns(const std::vector<std::string>& fields, const ColumnName& column, StereoTruthStats& t) {
+  t.points = static_cast<size_t>(ParseInteger(fields[28], column(28)));
+  t.off_receiver = static_cast<size_t>(ParseInteger(fields[29], column(29)));
+  t.off_surface = static_cast<size_t>(ParseInteger(fields[30], column(30)));
+  t.error_sum_px = ParseFiniteDouble(fields[31], column(31));
+  t.error_squared_sum_px2 = ParseFiniteDouble(fields[32], column(32));
+  std::istringstream bins(fields[33]);
+  std::string item;
+  size_t b = 0;
+  for (; b < kFractionBins && bins >> item; ++b) {
+    const size_t slash = item.find('/');
+    if (slash == std::string::npos) throw Error(column(33) + ": expected count/sum pairs");
+    t.bin_count[b] = static_cast<size_t>(ParseInteger(item.substr(0, slash), column(33)));
+    t.bin_error_sum_px[b] = ParseFiniteDouble(item.substr(slash + 1), column(33));
+    t.on_receiver += t.bin_count[b];
+  }
+  if (b != kFractionBins || bins >> item) throw Error(column(33) + ": expected 8 count/sum pairs");
+}
+
+// filt_est_* and filt_err_*: all empty without a filtered pose.
+void ParseFilteredColumns(const std::vector<std::string>& fields, const ColumnName& column, FrameResult& f) {
+  const bool empty = std::all_of(fields.begin() + kFilterColumn, fields.begin() + kFilterColumn + 12,
+                                 [](const std::string& v) { return v.empty(); });
+  if (empty) return;
+  SixDof filtered;
+  for (size_t d = 0; d < 6; ++d) {
+    filtered[d] = ParseFiniteDouble(fields[kFilterColumn + d], column(kFilterColumn + d));
+    f.filtered_error[d] = ParseFiniteDouble(fields[kFilterColumn + 6 + d], column(kFilterColumn + 6 + d));
+  }
+  f.filtered = PoseFromValues(filtered);
+}
+
+// mssd_m to adds_m, then vsd_errors (only with them).
+void ParseBopColumns(const std::vector<std::string>& fields, const ColumnName& column, FrameResult& f) {
+  if (std::any_of(fields.begin() + kBopColumn, fields.begin() + kBopColumn + 4,
+                  [](const std::string& v) { return !v.empty(); })) {
+    PoseErrorMetrics bop;
+    size_t c = kBopColumn;
+    for (double* v : BopFields(bop)) {
+      *v = ParseFiniteDouble(fields[c], column(c));
+      ++c;
+    }
+    f.bop_errors = bop;
+  }
+  if (!fields[kVsdColumn].empty()) {
+    if (!f.bop_errors) throw Error(column(kVsdColumn) + ": vsd_errors without the other pose errors");
+    std::istringstream items(fields[kVsdColumn]);
+    std::string item;
+    VsdErrors vsd;
+    size_t t = 0;
+    for (; t < vsd.size() && items >> item; ++t) vsd[t] = ParseFiniteDouble(item, column(kVsdColumn));
+    if (t != vsd.size() || items >> item) {
+      throw Error(column(kVsdColumn) + ": expected " + std::to_string(vsd.size()) + " VSD errors");
+    }
+    f.bop_errors->vsd = vsd;
+  }
+}
+
+// One data line, split into its columns (as many as the header has), in
+// column order; `at` is "file:line".
+FrameResult ParseFrameResultLine(const std::vector<std::string>& fields, const std::string& at, bool boom) {
+  const ColumnName column{at};
+  FrameResult f;
+  ParseFrameColumns(fields, column, f);
+  ParsePoseColumns(fields, column, f);
+  ParseIcpColumns(fields, column, f);
+  ParseStereoTruthColumns(fields, column, f.stereo_truth);
+  ParseFilteredColumns(fields, column, f);
+  ParseBopColumns(fields, column, f);
+  StereoTruthStats& t = f.stereo_truth;
+  t.on_propellers = static_cast<size_t>(ParseInteger(fields[kVsdColumn + 1], column(kVsdColumn + 1)));
+  t.propellers_kept = static_cast<size_t>(ParseInteger(fields[kVsdColumn + 2], column(kVsdColumn + 2)));
+  size_t c = kVsdColumn + 3;
+  for (double* t : TimeFields(f.times)) {
+    *t = ParseFiniteDouble(fields[c], column(c));
+    ++c;
+  }
+  if (boom && !fields[c].empty()) f.receiver_occluded_fraction = ParseFiniteDouble(fields[c], column(c));
+  return f;
 }
 
 }  // namespace
@@ -168,98 +297,7 @@ std::vector<FrameResult> ParseFrameResults(std::string_view text, const std::str
     if (fields.size() != columns) {
       throw Error(at + ": expected " + std::to_string(columns) + " columns, found " + std::to_string(fields.size()));
     }
-    const auto column = [&](size_t i) { return at + " column " + std::to_string(i + 1); };
-    FrameResult f;
-    f.frame = static_cast<size_t>(ParseInteger(fields[0], column(0)));
-    f.time_s = ParseFiniteDouble(fields[1], column(1));
-    f.region = fields[2];
-    if (f.region != "A" && f.region != "B" && f.region != "C" && f.region != "none") {
-      throw Error(column(2) + ": region '" + f.region + "' is not A, B, C or none");
-    }
-    f.range_m = ParseFiniteDouble(fields[3], column(3));
-    f.status = fields[4];
-    if (f.status.empty()) throw Error(column(4) + ": empty status");
-    SixDof truth, estimate;
-    for (size_t d = 0; d < 6; ++d) {
-      truth[d] = ParseFiniteDouble(fields[5 + d], column(5 + d));
-      const bool empty = fields[11 + d].empty() && fields[17 + d].empty();
-      if (f.ok() || !empty) {
-        f.has_estimate = true;
-        estimate[d] = ParseFiniteDouble(fields[11 + d], column(11 + d));
-        f.error[d] = ParseFiniteDouble(fields[17 + d], column(17 + d));
-      }
-    }
-    f.truth = PoseFromValues(truth);
-    f.estimate = PoseFromValues(estimate);
-    f.sensed_points = static_cast<size_t>(ParseInteger(fields[23], column(23)));
-    f.icp_iterations = static_cast<int>(ParseInteger(fields[24], column(24)));
-    if (fields[25] != "0" && fields[25] != "1") throw Error(column(25) + ": icp_converged must be 0 or 1");
-    f.icp_converged = fields[25] == "1";
-    f.icp_rmse_m = ParseFiniteDouble(fields[26], column(26));
-    f.icp_inliers = static_cast<size_t>(ParseInteger(fields[27], column(27)));
-    StereoTruthStats& t = f.stereo_truth;
-    t.points = static_cast<size_t>(ParseInteger(fields[28], column(28)));
-    t.off_receiver = static_cast<size_t>(ParseInteger(fields[29], column(29)));
-    t.off_surface = static_cast<size_t>(ParseInteger(fields[30], column(30)));
-    t.error_sum_px = ParseFiniteDouble(fields[31], column(31));
-    t.error_squared_sum_px2 = ParseFiniteDouble(fields[32], column(32));
-    {
-      std::istringstream bins(fields[33]);
-      std::string item;
-      size_t b = 0;
-      for (; b < kFractionBins && bins >> item; ++b) {
-        const size_t slash = item.find('/');
-        if (slash == std::string::npos) throw Error(column(33) + ": expected count/sum pairs");
-        t.bin_count[b] = static_cast<size_t>(ParseInteger(item.substr(0, slash), column(33)));
-        t.bin_error_sum_px[b] = ParseFiniteDouble(item.substr(slash + 1), column(33));
-        t.on_receiver += t.bin_count[b];
-      }
-      if (b != kFractionBins || bins >> item) throw Error(column(33) + ": expected 8 count/sum pairs");
-    }
-    {
-      const bool empty = std::all_of(fields.begin() + kFilterColumn, fields.begin() + kFilterColumn + 12,
-                                     [](const std::string& v) { return v.empty(); });
-      if (!empty) {
-        SixDof filtered;
-        for (size_t d = 0; d < 6; ++d) {
-          filtered[d] = ParseFiniteDouble(fields[kFilterColumn + d], column(kFilterColumn + d));
-          f.filtered_error[d] = ParseFiniteDouble(fields[kFilterColumn + 6 + d], column(kFilterColumn + 6 + d));
-        }
-        f.filtered = PoseFromValues(filtered);
-      }
-    }
-    if (std::any_of(fields.begin() + kBopColumn, fields.begin() + kBopColumn + 4,
-                    [](const std::string& v) { return !v.empty(); })) {
-      PoseErrorMetrics bop;
-      size_t c = kBopColumn;
-      for (double* v : BopFields(bop)) {
-        *v = ParseFiniteDouble(fields[c], column(c));
-        ++c;
-      }
-      f.bop_errors = bop;
-    }
-    const size_t vsd_column = kBopColumn + 4;
-    if (!fields[vsd_column].empty()) {
-      if (!f.bop_errors) throw Error(column(vsd_column) + ": vsd_errors without the other pose errors");
-      std::istringstream items(fields[vsd_column]);
-      std::string item;
-      VsdErrors vsd;
-      size_t t = 0;
-      for (; t < vsd.size() && items >> item; ++t) vsd[t] = ParseFiniteDouble(item, column(vsd_column));
-      if (t != vsd.size() || items >> item) {
-        throw Error(column(vsd_column) + ": expected " + std::to_string(vsd.size()) + " VSD errors");
-      }
-      f.bop_errors->vsd = vsd;
-    }
-    t.on_propellers = static_cast<size_t>(ParseInteger(fields[vsd_column + 1], column(vsd_column + 1)));
-    t.propellers_kept = static_cast<size_t>(ParseInteger(fields[vsd_column + 2], column(vsd_column + 2)));
-    size_t c = vsd_column + 3;
-    for (double* t : TimeFields(f.times)) {
-      *t = ParseFiniteDouble(fields[c], column(c));
-      ++c;
-    }
-    if (boom && !fields[c].empty()) f.receiver_occluded_fraction = ParseFiniteDouble(fields[c], column(c));
-    results.push_back(std::move(f));
+    results.push_back(ParseFrameResultLine(fields, at, boom));
   }
   if (!header_seen) throw Error(where + ": empty file (no header)");
   return results;

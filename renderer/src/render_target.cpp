@@ -3,27 +3,11 @@
 #include <vector>
 
 namespace aar {
+namespace {
 
-RenderTarget::RenderTarget(VulkanContext& context, uint32_t w, uint32_t h, int samples, VkFormat color_format)
-    : device_(context.device()), samples_(samples) {
+// Colour, depth and, when multisampled, resolve attachments, in that order.
+std::vector<VkAttachmentDescription> AttachmentDescriptions(VkFormat color_format, int samples) {
   const auto sample_bits = static_cast<VkSampleCountFlagBits>(samples);
-  GpuImageDesc color{w,
-                     h,
-                     1,
-                     color_format,
-                     sample_bits,
-                     static_cast<VkImageUsageFlags>(VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
-                                                    (samples == 1 ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0)),
-                     VK_IMAGE_ASPECT_COLOR_BIT};
-  color_ = GpuImage(context, color);
-  depth_ = GpuImage(context, {w, h, 1, kDepthFormat, sample_bits, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                              VK_IMAGE_ASPECT_DEPTH_BIT});
-  if (samples > 1) {
-    resolve_ = GpuImage(
-        context, {w, h, 1, color_format, VK_SAMPLE_COUNT_1_BIT,
-                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT});
-  }
-
   std::vector<VkAttachmentDescription> attachments(samples > 1 ? 3 : 2);
   attachments[0] = {0,
                     color_format,
@@ -54,6 +38,12 @@ RenderTarget::RenderTarget(VulkanContext& context, uint32_t w, uint32_t h, int s
                       VK_IMAGE_LAYOUT_UNDEFINED,
                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
   }
+  return attachments;
+}
+
+// One subpass drawing into the attachments, its colour output then read by a transfer.
+VkRenderPass CreateRenderPass(VkDevice device, VkFormat color_format, int samples) {
+  const std::vector<VkAttachmentDescription> attachments = AttachmentDescriptions(color_format, samples);
   VkAttachmentReference color_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
   VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
   VkAttachmentReference resolve_ref{2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
@@ -77,7 +67,34 @@ RenderTarget::RenderTarget(VulkanContext& context, uint32_t w, uint32_t h, int s
   rp.pSubpasses = &subpass;
   rp.dependencyCount = 1;
   rp.pDependencies = &dependency;
-  VkCheck(vkCreateRenderPass(device_, &rp, nullptr, &render_pass_), "vkCreateRenderPass");
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  VkCheck(vkCreateRenderPass(device, &rp, nullptr, &render_pass), "vkCreateRenderPass");
+  return render_pass;
+}
+
+}  // namespace
+
+RenderTarget::RenderTarget(VulkanContext& context, uint32_t w, uint32_t h, int samples, VkFormat color_format)
+    : device_(context.device()), samples_(samples) {
+  const auto sample_bits = static_cast<VkSampleCountFlagBits>(samples);
+  GpuImageDesc color{w,
+                     h,
+                     1,
+                     color_format,
+                     sample_bits,
+                     static_cast<VkImageUsageFlags>(VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
+                                                    (samples == 1 ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0)),
+                     VK_IMAGE_ASPECT_COLOR_BIT};
+  color_ = GpuImage(context, color);
+  depth_ = GpuImage(context, {w, h, 1, kDepthFormat, sample_bits, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                              VK_IMAGE_ASPECT_DEPTH_BIT});
+  if (samples > 1) {
+    resolve_ = GpuImage(
+        context, {w, h, 1, color_format, VK_SAMPLE_COUNT_1_BIT,
+                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT});
+  }
+
+  render_pass_ = CreateRenderPass(device_, color_format, samples);
 
   std::vector<VkImageView> views = {color_.view(), depth_.view()};
   if (samples > 1) views.push_back(resolve_.view());

@@ -15,6 +15,108 @@
 namespace aar {
 namespace {
 
+// The primitive's vertices, from its node's frame into the body frame; the
+// normal +z and the uv 0 where NORMAL or TEXCOORD_0 has no element.
+std::vector<Vertex> BodyVertices(const GltfAccessor& positions, const std::optional<GltfAccessor>& normals,
+                                 const std::optional<GltfAccessor>& uvs, const Eigen::Matrix4d& body_from_node) {
+  std::vector<Vertex> vertices;
+  const Eigen::Matrix3d linear = body_from_node.topLeftCorner<3, 3>();
+  const Eigen::Matrix3d normal_matrix = linear.inverse().transpose();
+  vertices.resize(positions.count());
+  for (size_t i = 0; i < positions.count(); ++i) {
+    const Eigen::Vector3d x =
+        linear * Eigen::Vector3d(positions.Component(i, 0), positions.Component(i, 1), positions.Component(i, 2)) +
+        body_from_node.topRightCorner<3, 1>();
+    Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
+    if (normals && i < normals->count()) {
+      n = (normal_matrix *
+           Eigen::Vector3d(normals->Component(i, 0), normals->Component(i, 1), normals->Component(i, 2)));
+      if (n.norm() > 0) n.normalize();
+    }
+    Vertex& v = vertices[i];
+    for (int c = 0; c < 3; ++c) {
+      v.position[c] = static_cast<float>(x(c));
+      v.normal[c] = static_cast<float>(n(c));
+    }
+    v.uv[0] = uvs && i < uvs->count() ? static_cast<float>(uvs->Component(i, 0)) : 0.0f;
+    v.uv[1] = uvs && i < uvs->count() ? static_cast<float>(uvs->Component(i, 1)) : 0.0f;
+  }
+  return vertices;
+}
+
+// The primitive's triangle list: its indices (checked against vertex_count),
+// or 0 .. vertex_count - 1 without them, cut to whole triangles.
+std::vector<uint32_t> TriangleIndices(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                                      size_t vertex_count, const std::string& where) {
+  std::vector<uint32_t> indices;
+  if (prim.indices >= 0) {
+    indices = ReadGltfIndices(model, prim.indices, where);
+    for (const uint32_t index : indices) {
+      if (index >= vertex_count) throw Error(where + ": index out of range");
+    }
+  } else {
+    indices.resize(vertex_count);
+    for (size_t i = 0; i < indices.size(); ++i) indices[i] = static_cast<uint32_t>(i);
+  }
+  indices.resize(indices.size() / 3 * 3);
+  return indices;
+}
+
+// Flat normals from the faces, accumulated per vertex.
+void SetFlatNormals(Primitive& p) {
+  std::vector<Eigen::Vector3d> acc(p.vertices.size(), Eigen::Vector3d::Zero());
+  for (size_t t = 0; t < p.indices.size(); t += 3) {
+    Eigen::Vector3f a(p.vertices[p.indices[t]].position), b(p.vertices[p.indices[t + 1]].position),
+        c(p.vertices[p.indices[t + 2]].position);
+    const Eigen::Vector3d n = ((b - a).cross(c - a)).cast<double>();
+    for (int k = 0; k < 3; ++k) acc[p.indices[t + k]] += n;
+  }
+  for (size_t i = 0; i < acc.size(); ++i) {
+    const Eigen::Vector3d n = acc[i].norm() > 0 ? acc[i].normalized() : Eigen::Vector3d::UnitZ();
+    for (int c = 0; c < 3; ++c) p.vertices[i].normal[c] = static_cast<float>(n(c));
+  }
+}
+
+// Image `source` of the model as texture mips; throws naming it unless it is a decodable 8-bit image.
+TextureMips MipsOfImage(const tinygltf::Model& model, int source, const std::string& where) {
+  const tinygltf::Image& image = model.images[source];
+  if (image.bits != 8 || image.width <= 0 || image.height <= 0 || image.image.empty()) {
+    throw Error(where + ": image " + std::to_string(source) + " is not a decodable 8-bit image");
+  }
+  // Expand grey, grey+alpha and RGB to RGBA.
+  const int comp = image.component;
+  const size_t pixels = static_cast<size_t>(image.width) * image.height;
+  std::vector<uint8_t> rgba(pixels * 4, 255);
+  for (size_t px = 0; px < pixels; ++px) {
+    const uint8_t* src = &image.image[px * comp];
+    uint8_t* dst = &rgba[px * 4];
+    for (int c = 0; c < 3; ++c) dst[c] = comp >= 3 ? src[c] : src[0];
+    if (comp == 2 || comp == 4) dst[3] = src[comp - 1];
+  }
+  return BuildMips(std::move(rgba), image.width, image.height);
+}
+
+// The base colour factor and texture of the primitive's material; each image
+// becomes one texture of `out`, the first time a primitive uses it.
+void ApplyMaterial(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::string& where,
+                   std::vector<int>& texture_of_image, SceneModel& out, Primitive& p) {
+  if (prim.material < 0 || prim.material >= static_cast<int>(model.materials.size())) return;
+  const tinygltf::PbrMetallicRoughness& pbr = model.materials[prim.material].pbrMetallicRoughness;
+  for (int c = 0; c < 4 && c < static_cast<int>(pbr.baseColorFactor.size()); ++c) {
+    p.base_color_factor[c] = static_cast<float>(pbr.baseColorFactor[c]);
+  }
+  const int texture = pbr.baseColorTexture.index;
+  if (texture < 0 || texture >= static_cast<int>(model.textures.size())) return;
+  const int source = model.textures[texture].source;
+  if (source < 0 || source >= static_cast<int>(model.images.size())) throw Error(where + ": texture without image");
+  if (texture_of_image[source] < 0) {
+    TextureMips mips = MipsOfImage(model, source, where);
+    texture_of_image[source] = static_cast<int>(out.textures.size());
+    out.textures.push_back(std::move(mips));
+  }
+  p.texture = texture_of_image[source];
+}
+
 void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim,
                      const Eigen::Matrix4d& body_from_node, const std::string& where,
                      std::vector<int>& texture_of_image, SceneModel& out) {
@@ -31,81 +133,11 @@ void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& pr
   }
 
   Primitive p;
-  const Eigen::Matrix3d linear = body_from_node.topLeftCorner<3, 3>();
-  const Eigen::Matrix3d normal_matrix = linear.inverse().transpose();
-  p.vertices.resize(positions.count());
-  for (size_t i = 0; i < positions.count(); ++i) {
-    const Eigen::Vector3d x =
-        linear * Eigen::Vector3d(positions.Component(i, 0), positions.Component(i, 1), positions.Component(i, 2)) +
-        body_from_node.topRightCorner<3, 1>();
-    Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
-    if (normals && i < normals->count()) {
-      n = (normal_matrix *
-           Eigen::Vector3d(normals->Component(i, 0), normals->Component(i, 1), normals->Component(i, 2)));
-      if (n.norm() > 0) n.normalize();
-    }
-    Vertex& v = p.vertices[i];
-    for (int c = 0; c < 3; ++c) {
-      v.position[c] = static_cast<float>(x(c));
-      v.normal[c] = static_cast<float>(n(c));
-    }
-    v.uv[0] = uvs && i < uvs->count() ? static_cast<float>(uvs->Component(i, 0)) : 0.0f;
-    v.uv[1] = uvs && i < uvs->count() ? static_cast<float>(uvs->Component(i, 1)) : 0.0f;
-  }
-  if (prim.indices >= 0) {
-    p.indices = ReadGltfIndices(model, prim.indices, where);
-    for (const uint32_t index : p.indices) {
-      if (index >= p.vertices.size()) throw Error(where + ": index out of range");
-    }
-  } else {
-    p.indices.resize(p.vertices.size());
-    for (size_t i = 0; i < p.indices.size(); ++i) p.indices[i] = static_cast<uint32_t>(i);
-  }
-  p.indices.resize(p.indices.size() / 3 * 3);
+  p.vertices = BodyVertices(positions, normals, uvs, body_from_node);
+  p.indices = TriangleIndices(model, prim, p.vertices.size(), where);
   if (p.indices.empty()) return;
-  if (!normals) {  // Flat normals from the faces, accumulated per vertex.
-    std::vector<Eigen::Vector3d> acc(p.vertices.size(), Eigen::Vector3d::Zero());
-    for (size_t t = 0; t < p.indices.size(); t += 3) {
-      Eigen::Vector3f a(p.vertices[p.indices[t]].position), b(p.vertices[p.indices[t + 1]].position),
-          c(p.vertices[p.indices[t + 2]].position);
-      const Eigen::Vector3d n = ((b - a).cross(c - a)).cast<double>();
-      for (int k = 0; k < 3; ++k) acc[p.indices[t + k]] += n;
-    }
-    for (size_t i = 0; i < acc.size(); ++i) {
-      const Eigen::Vector3d n = acc[i].norm() > 0 ? acc[i].normalized() : Eigen::Vector3d::UnitZ();
-      for (int c = 0; c < 3; ++c) p.vertices[i].normal[c] = static_cast<float>(n(c));
-    }
-  }
-  if (prim.material >= 0 && prim.material < static_cast<int>(model.materials.size())) {
-    const tinygltf::PbrMetallicRoughness& pbr = model.materials[prim.material].pbrMetallicRoughness;
-    for (int c = 0; c < 4 && c < static_cast<int>(pbr.baseColorFactor.size()); ++c) {
-      p.base_color_factor[c] = static_cast<float>(pbr.baseColorFactor[c]);
-    }
-    const int texture = pbr.baseColorTexture.index;
-    if (texture >= 0 && texture < static_cast<int>(model.textures.size())) {
-      const int source = model.textures[texture].source;
-      if (source < 0 || source >= static_cast<int>(model.images.size())) throw Error(where + ": texture without image");
-      if (texture_of_image[source] < 0) {
-        const tinygltf::Image& image = model.images[source];
-        if (image.bits != 8 || image.width <= 0 || image.height <= 0 || image.image.empty()) {
-          throw Error(where + ": image " + std::to_string(source) + " is not a decodable 8-bit image");
-        }
-        // Expand grey, grey+alpha and RGB to RGBA.
-        const int comp = image.component;
-        const size_t pixels = static_cast<size_t>(image.width) * image.height;
-        std::vector<uint8_t> rgba(pixels * 4, 255);
-        for (size_t px = 0; px < pixels; ++px) {
-          const uint8_t* src = &image.image[px * comp];
-          uint8_t* dst = &rgba[px * 4];
-          for (int c = 0; c < 3; ++c) dst[c] = comp >= 3 ? src[c] : src[0];
-          if (comp == 2 || comp == 4) dst[3] = src[comp - 1];
-        }
-        texture_of_image[source] = static_cast<int>(out.textures.size());
-        out.textures.push_back(BuildMips(std::move(rgba), image.width, image.height));
-      }
-      p.texture = texture_of_image[source];
-    }
-  }
+  if (!normals) SetFlatNormals(p);
+  ApplyMaterial(model, prim, where, texture_of_image, out, p);
   out.primitives.push_back(std::move(p));
 }
 

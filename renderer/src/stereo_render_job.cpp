@@ -285,6 +285,165 @@ nlohmann::json CommonHeader(const Session& session, const std::string& rig_hash)
   return header;
 }
 
+// The models of a flight-path job: the receiver, the tanker, the boom and
+// its tube (with_boom) and the propeller (with_propellers).
+struct FlightPathModels {
+  SceneModel receiver, tanker;
+  bool with_boom = false, with_propellers = false;
+  std::optional<SceneModel> boom, boom_tube, propeller;
+};
+
+FlightPathModels LoadFlightPathModels(const RenderJobOptions& options, const std::vector<FlightSample>& path) {
+  FlightPathModels models;
+  models.receiver = LoadSceneModel(options.receiver_model);
+  models.tanker = LoadSceneModel(options.tanker_model);
+  // The boom: posed by the path's columns, or stowed on a 7-column path with --boom.
+  models.with_boom = options.boom || path.front().boom.has_value();
+  if (models.with_boom) {
+    models.boom = LoadSceneModel(options.boom_model);
+    models.boom_tube = LoadSceneModel(options.boom_tube_model);
+  }
+  models.with_propellers = options.propeller_rpm > 0.0;
+  if (models.with_propellers) models.propeller = LoadSceneModel(options.propeller_model);
+  return models;
+}
+
+// The flight-path models' indices on the renderer; -1 for the boom's without it.
+struct FlightPathModelIndices {
+  ReceiverModels receiver;
+  int tanker = -1, boom = -1, boom_tube = -1;
+};
+
+// Adds the models to the session's renderer: receiver, tanker, boom, boom tube, propeller.
+FlightPathModelIndices AddFlightPathModels(Session& session, const FlightPathModels& models) {
+  FlightPathModelIndices indices;
+  indices.receiver.airframe = session.renderer->AddModel(models.receiver);
+  indices.receiver.object_id = kReceiverId;
+  indices.tanker = session.renderer->AddModel(models.tanker);
+  indices.boom = models.with_boom ? session.renderer->AddModel(*models.boom) : -1;
+  indices.boom_tube = models.with_boom ? session.renderer->AddModel(*models.boom_tube) : -1;
+  if (models.with_propellers) indices.receiver.propeller = session.renderer->AddModel(*models.propeller);
+  return indices;
+}
+
+// Hashes of the inputs a flight-path dataset keeps a copy of; the boom's empty without it.
+struct FlightPathInputHashes {
+  std::string rig, receiver, path, boom, boom_tube;
+};
+
+struct FlightPathManifest {
+  nlohmann::json header;
+  FlightPathInputHashes hashes;
+};
+
+// frames of the manifest: how every frame of the flight path is rendered.
+nlohmann::json FlightPathFramesJson(const RenderJobOptions& options, const MsaaPlan& plan,
+                                    const std::vector<FlightSample>& path, const FlightPathModels& models) {
+  nlohmann::json frames = {{"count", path.size()},
+                           {"msaa", MsaaJson(plan)},
+                           {"depth", options.depth || options.depth_right},
+                           {"depth_right", options.depth_right},
+                           {"texture_anisotropy", options.anisotropy}};
+  // Absent for the flat sky, so datasets made before backgrounds existed still match.
+  if (options.background.enabled()) frames["background"] = BackgroundJson(options.background);
+  // Absent without the boom, so datasets without it keep their bytes.
+  if (models.with_boom) frames["boom"] = BoomJson(path.front().boom.has_value());
+  // Absent for an instant exposure and without propellers, likewise.
+  if (options.shutter_ms > 0.0) frames["exposure"] = ExposureJson(options.shutter_ms, options.time_samples);
+  if (models.with_propellers) frames["propellers"] = PropellersJson(options.propeller_rpm);
+  return frames;
+}
+
+// The manifest header of a flight-path job; hashes its inputs, writes nothing.
+FlightPathManifest FlightPathManifestHeader(const RenderJobOptions& options, const Session& session,
+                                            const FlightPathModels& models, const std::vector<FlightSample>& path) {
+  FlightPathManifest manifest;
+  FlightPathInputHashes& hashes = manifest.hashes;
+  hashes.rig = Sha256File(options.rig);
+  hashes.receiver = Sha256File(options.receiver_model);
+  hashes.path = Sha256File(options.flight_path);
+  nlohmann::json& header = manifest.header;
+  header = CommonHeader(session, hashes.rig);
+  header["inputs"]["receiver_model"] = {{"file", kReceiverModelName}, {"sha256", hashes.receiver}};
+  header["inputs"]["tanker_model"] = {{"source", options.tanker_model.filename().string()},
+                                      {"sha256", Sha256File(options.tanker_model)}};
+  header["inputs"]["flight_path"] = {{"file", kFlightPathName}, {"sha256", hashes.path}};
+  if (models.with_boom) {
+    hashes.boom = Sha256File(options.boom_model);
+    hashes.boom_tube = Sha256File(options.boom_tube_model);
+    header["inputs"]["boom_model"] = {{"file", kBoomModelName}, {"sha256", hashes.boom}};
+    header["inputs"]["boom_tube_model"] = {{"file", kBoomTubeModelName}, {"sha256", hashes.boom_tube}};
+  }
+  if (models.with_propellers) {
+    header["inputs"]["propeller_model"] = {{"source", options.propeller_model.filename().string()},
+                                           {"sha256", Sha256File(options.propeller_model)}};
+  }
+  header["frames"] = FlightPathFramesJson(options, session.plan, path, models);
+  return manifest;
+}
+
+// Copies the inputs a flight-path dataset keeps into it.
+void CopyFlightPathInputs(const RenderJobOptions& options, bool with_boom, const FlightPathInputHashes& hashes) {
+  CopyInput(options.output, options.rig, kRigName, hashes.rig);
+  CopyInput(options.output, options.receiver_model, kReceiverModelName, hashes.receiver);
+  CopyInput(options.output, options.flight_path, kFlightPathName, hashes.path);
+  if (with_boom) {
+    CopyInput(options.output, options.boom_model, kBoomModelName, hashes.boom);
+    CopyInput(options.output, options.boom_tube_model, kBoomTubeModelName, hashes.boom_tube);
+  }
+}
+
+// What every frame of a flight-path job is made of.
+struct FlightPathFrames {
+  const RenderJobOptions& options;
+  const StereoRig& rig;
+  const std::vector<FlightSample>& path;
+  const FlightPathModelIndices& models;
+  bool with_boom;
+  const std::vector<double>& exposure_offsets;
+  const std::vector<Eigen::Vector3d>& receiver_points;
+  const std::string& settings;
+};
+
+// Frame i of the flight path: the scene over its exposure, the scene at its instant, its sidecar.
+std::tuple<std::vector<std::vector<RenderItem>>, std::vector<RenderItem>, FrameSidecar> FlightPathPair(
+    const FlightPathFrames& frames, size_t i) {
+  const std::vector<FlightSample>& path = frames.path;
+  const Eigen::Isometry3d tanker_from_receiver = IsometryFromPose(path[i].tanker_from_receiver);
+  // The scene at instant k of the exposure: tanker, receiver (instant k), boom.
+  FrameSidecar s;
+  std::vector<RenderItem> boom_items;
+  if (frames.with_boom) {
+    s.boom = path[i].boom.value_or(BoomPose{});
+    boom_items = {{frames.models.boom, TankerFromBoom(*s.boom), kBoomId},
+                  {frames.models.boom_tube, TankerFromBoomTube(*s.boom), kBoomId}};
+  }
+  const auto scene_with = [&](const std::vector<RenderItem>& receiver_items) {
+    std::vector<RenderItem> items = {{frames.models.tanker, Eigen::Isometry3d::Identity(), kTankerId}};
+    items.insert(items.end(), receiver_items.begin(), receiver_items.end());
+    items.insert(items.end(), boom_items.begin(), boom_items.end());
+    return items;
+  };
+  std::vector<std::vector<RenderItem>> exposure;
+  for (const auto& receiver_items :
+       ReceiverOverExposure(frames.models.receiver, path, i, frames.exposure_offsets, frames.options.propeller_rpm))
+    exposure.push_back(scene_with(receiver_items));
+  const std::vector<RenderItem> items = scene_with(
+      ReceiverItems(frames.models.receiver, tanker_from_receiver, frames.options.propeller_rpm, path[i].time_s));
+  const StereoRig& rig = frames.rig;
+  s.kind = "frame";
+  s.settings_sha256 = frames.settings;
+  s.index = i;
+  s.time_s = path[i].time_s;
+  s.tanker_from_target = path[i].tanker_from_receiver;
+  s.range_m = (tanker_from_receiver.translation() - rig.left.tanker_from_camera.translation()).norm();
+  s.region = RegionForRange(s.range_m);
+  s.in_view_left = InViewFraction(frames.receiver_points, rig.left, tanker_from_receiver);
+  s.in_view_right = InViewFraction(frames.receiver_points, rig.right, tanker_from_receiver);
+  s.rig = rig;
+  return std::make_tuple(exposure, items, s);
+}
+
 }  // namespace
 
 void RenderJobOptions::Check() const {
@@ -314,109 +473,25 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   const std::vector<FlightSample> path = ReadFlightPath(options.flight_path);
   options.selection.CheckWithin(path.size(), options.flight_path.string());
   if (options.shutter_ms > 0.0) CheckTimesIncrease(path, options.flight_path.string());
-  const SceneModel receiver = LoadSceneModel(options.receiver_model);
-  const SceneModel tanker = LoadSceneModel(options.tanker_model);
-  // The boom: posed by the path's columns, or stowed on a 7-column path with --boom.
-  const bool with_boom = options.boom || path.front().boom.has_value();
-  std::optional<SceneModel> boom, boom_tube;
-  if (with_boom) {
-    boom = LoadSceneModel(options.boom_model);
-    boom_tube = LoadSceneModel(options.boom_tube_model);
-  }
-  const bool with_propellers = options.propeller_rpm > 0.0;
-  std::optional<SceneModel> propeller;
-  if (with_propellers) propeller = LoadSceneModel(options.propeller_model);
+  const FlightPathModels models = LoadFlightPathModels(options, path);
   CheckDatasetFolderWritable(options.output);
   Session session = OpenSession(options, rig, options.background);
-  ReceiverModels receiver_models;
-  receiver_models.airframe = session.renderer->AddModel(receiver);
-  receiver_models.object_id = kReceiverId;
-  const int tanker_index = session.renderer->AddModel(tanker);
-  const int boom_index = with_boom ? session.renderer->AddModel(*boom) : -1;
-  const int boom_tube_index = with_boom ? session.renderer->AddModel(*boom_tube) : -1;
-  if (with_propellers) receiver_models.propeller = session.renderer->AddModel(*propeller);
+  const FlightPathModelIndices indices = AddFlightPathModels(session, models);
   const std::vector<double> exposure_offsets = ExposureOffsets(options.shutter_ms, options.time_samples);
-  const std::vector<Eigen::Vector3d> receiver_points = receiver.AllPositions();
+  const std::vector<Eigen::Vector3d> receiver_points = models.receiver.AllPositions();
 
   EnsureWritableDirectory(options.output);
   const FileLock writing = LockDatasetForWriting(options.output);
-  const std::string rig_hash = Sha256File(options.rig);
-  const std::string receiver_hash = Sha256File(options.receiver_model);
-  const std::string path_hash = Sha256File(options.flight_path);
-  nlohmann::json header = CommonHeader(session, rig_hash);
-  header["inputs"]["receiver_model"] = {{"file", kReceiverModelName}, {"sha256", receiver_hash}};
-  header["inputs"]["tanker_model"] = {{"source", options.tanker_model.filename().string()},
-                                      {"sha256", Sha256File(options.tanker_model)}};
-  header["inputs"]["flight_path"] = {{"file", kFlightPathName}, {"sha256", path_hash}};
-  std::string boom_hash, boom_tube_hash;
-  if (with_boom) {
-    boom_hash = Sha256File(options.boom_model);
-    boom_tube_hash = Sha256File(options.boom_tube_model);
-    header["inputs"]["boom_model"] = {{"file", kBoomModelName}, {"sha256", boom_hash}};
-    header["inputs"]["boom_tube_model"] = {{"file", kBoomTubeModelName}, {"sha256", boom_tube_hash}};
-  }
-  if (with_propellers) {
-    header["inputs"]["propeller_model"] = {{"source", options.propeller_model.filename().string()},
-                                           {"sha256", Sha256File(options.propeller_model)}};
-  }
-  header["frames"] = {{"count", path.size()},
-                      {"msaa", MsaaJson(session.plan)},
-                      {"depth", options.depth || options.depth_right},
-                      {"depth_right", options.depth_right},
-                      {"texture_anisotropy", options.anisotropy}};
-  // Absent for the flat sky, so datasets made before backgrounds existed still match.
-  if (options.background.enabled()) header["frames"]["background"] = BackgroundJson(options.background);
-  // Absent without the boom, so datasets without it keep their bytes.
-  if (with_boom) header["frames"]["boom"] = BoomJson(path.front().boom.has_value());
-  // Absent for an instant exposure and without propellers, likewise.
-  if (options.shutter_ms > 0.0) header["frames"]["exposure"] = ExposureJson(options.shutter_ms, options.time_samples);
-  if (with_propellers) header["frames"]["propellers"] = PropellersJson(options.propeller_rpm);
-  const std::string settings = OpenManifest(options.output, "frame", header, [&] {
-    CopyInput(options.output, options.rig, kRigName, rig_hash);
-    CopyInput(options.output, options.receiver_model, kReceiverModelName, receiver_hash);
-    CopyInput(options.output, options.flight_path, kFlightPathName, path_hash);
-    if (with_boom) {
-      CopyInput(options.output, options.boom_model, kBoomModelName, boom_hash);
-      CopyInput(options.output, options.boom_tube_model, kBoomTubeModelName, boom_tube_hash);
-    }
+  const FlightPathManifest manifest = FlightPathManifestHeader(options, session, models, path);
+  const std::string settings = OpenManifest(options.output, "frame", manifest.header, [&] {
+    CopyFlightPathInputs(options, models.with_boom, manifest.hashes);
     WriteCalibration(options.output / kIdealCalibrationName, ideal);
   });
 
-  return RunPairs(
-      options, session, path.size(), "frame", settings, "render x" + std::to_string(options.msaa), [&](size_t i) {
-        const Eigen::Isometry3d tanker_from_receiver = IsometryFromPose(path[i].tanker_from_receiver);
-        // The scene at instant k of the exposure: tanker, receiver (instant k), boom.
-        FrameSidecar s;
-        std::vector<RenderItem> boom_items;
-        if (with_boom) {
-          s.boom = path[i].boom.value_or(BoomPose{});
-          boom_items = {{boom_index, TankerFromBoom(*s.boom), kBoomId},
-                        {boom_tube_index, TankerFromBoomTube(*s.boom), kBoomId}};
-        }
-        const auto scene_with = [&](const std::vector<RenderItem>& receiver_items) {
-          std::vector<RenderItem> items = {{tanker_index, Eigen::Isometry3d::Identity(), kTankerId}};
-          items.insert(items.end(), receiver_items.begin(), receiver_items.end());
-          items.insert(items.end(), boom_items.begin(), boom_items.end());
-          return items;
-        };
-        std::vector<std::vector<RenderItem>> exposure;
-        for (const auto& receiver_items :
-             ReceiverOverExposure(receiver_models, path, i, exposure_offsets, options.propeller_rpm))
-          exposure.push_back(scene_with(receiver_items));
-        const std::vector<RenderItem> items =
-            scene_with(ReceiverItems(receiver_models, tanker_from_receiver, options.propeller_rpm, path[i].time_s));
-        s.kind = "frame";
-        s.settings_sha256 = settings;
-        s.index = i;
-        s.time_s = path[i].time_s;
-        s.tanker_from_target = path[i].tanker_from_receiver;
-        s.range_m = (tanker_from_receiver.translation() - rig.left.tanker_from_camera.translation()).norm();
-        s.region = RegionForRange(s.range_m);
-        s.in_view_left = InViewFraction(receiver_points, rig.left, tanker_from_receiver);
-        s.in_view_right = InViewFraction(receiver_points, rig.right, tanker_from_receiver);
-        s.rig = rig;
-        return std::make_tuple(exposure, items, s);
-      });
+  const FlightPathFrames frames{options,         rig,     path, indices, models.with_boom, exposure_offsets,
+                                receiver_points, settings};
+  return RunPairs(options, session, path.size(), "frame", settings, "render x" + std::to_string(options.msaa),
+                  [&](size_t i) { return FlightPathPair(frames, i); });
 }
 
 RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
