@@ -76,6 +76,7 @@ void FrameAnalysisOptions::Check() const {
   boom_mask.Check();
   propeller_mask.Check();
   window_bias.Check();
+  direct.Check();
   if (!(truth_cloud_noise_px >= 0.0 && truth_cloud_noise_px <= 10.0))
     throw Error("--truth-cloud-noise must be in [0, 10] px");
   if (truth_cloud_noise_px > 0.0 && !register_truth_cloud) throw Error("--truth-cloud-noise needs --truth-cloud");

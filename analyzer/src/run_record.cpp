@@ -106,6 +106,18 @@ nlohmann::json OptionsJson(const AnalysisRunOptions& o) {
                                  {"passes", f.propeller_mask.passes},
                                  {"source", "common/include/aar/propeller.h's discs under the registered pose"}};
   }
+  // Absent without --direct-stereo, likewise.
+  if (f.refine_direct) {
+    const DirectStereoOptions& d = f.direct;
+    options["direct_stereo"] = {{"fit", ToString(d.fit)},
+                                {"iterations", d.iterations},
+                                {"edge_margin_px", d.edge_margin_px},
+                                {"max_step_px", d.max_step_px},
+                                {"min_cos_incidence", d.min_cos_incidence},
+                                {"huber_k", d.huber_k},
+                                {"converged_m", d.converged_m},
+                                {"max_motion_px", d.max_motion_px}};
+  }
   return options;
 }
 

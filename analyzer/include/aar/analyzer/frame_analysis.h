@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "aar/analyzer/boom_mask.h"
+#include "aar/analyzer/direct_stereo.h"
 #include "aar/analyzer/disparity.h"
 #include "aar/analyzer/disparity_cleaning.h"
 #include "aar/analyzer/frame_dump.h"
@@ -79,6 +80,12 @@ struct FrameAnalysisOptions {
   /// (window_bias.h); needs FrameAnalyzer::EnableWindowBiasCorrection.
   bool correct_window_bias = false;
   WindowBiasOptions window_bias;
+  /// After registration, fit the pose (direct.fit: its translation, by
+  /// default) to the rectified images directly (direct_stereo.h): every
+  /// pixel the model covers, at the disparity the model has there; needs
+  /// FrameAnalyzer::EnableWindowBiasCorrection's mesh.
+  bool refine_direct = false;
+  DirectStereoOptions direct;
   /// Re-projection: <= 750 m and <= 1.5 times the cloud's median depth;
   /// about 4000 points (one in eight or more).
   ReprojectionOptions reprojection = [] {
@@ -226,6 +233,10 @@ class FrameAnalyzer {
   // new pose passes the jump test. Returns whether it did.
   bool CorrectWindowBias(const cv::Mat& rect_left, const cv::Mat& rect_right, const cv::Rect& region,
                          SensedCloud& cloud, RegistrationResult& icp) const;
+  // options.refine_direct: fits `icp`'s pose to the rectified images
+  // (direct_stereo.h) and keeps the fit where it applied.
+  void RefineDirectly(const cv::Mat& rect_left, const cv::Mat& rect_right, const cv::Rect& region,
+                      RegistrationResult& icp) const;
   // One frame's images and what the analysis reads beside them.
   struct FrameInputs {
     cv::Mat left, right;
