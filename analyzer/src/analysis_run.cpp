@@ -302,10 +302,11 @@ void ScoreFrame(FrameResult& frame, const std::optional<DepthTruth>& depth, cons
   }
 }
 
-// The window-bias correction and the boom mask, where the options ask for them.
+// The receiver mesh for the window-bias correction and the direct fit, and the boom mask, where the options ask for
+// them.
 void EnableCorrections(FrameAnalyzer& analyzer, const AnalysisRunOptions& options, const Manifest& manifest,
                        const TriangleMesh& mesh) {
-  if (options.frame.correct_window_bias || options.frame.refine_direct) analyzer.EnableWindowBiasCorrection(mesh);
+  if (options.frame.correct_window_bias || options.frame.refine_direct) analyzer.SetReceiverMesh(mesh);
   if (options.frame.mask_boom) {
     // CheckDatasetInputs has checked the copies against the hashes the manifest records.
     if (!HasBoom(manifest)) {

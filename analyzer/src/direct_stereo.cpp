@@ -124,8 +124,8 @@ struct PixelTerm {
 
 // Residuals and Jacobians at the cyclopean positions c = x of every row:
 // the surface point seen at c + d / 2 in the left image and at c - d / 2 in
-// the right, where d is the model's disparity there (d = D(c + d / 2), two
-// fixed-point steps). Both images are then interpolated at complementary
+// the right, where d is the model's disparity there (d = D(c + d / 2), a
+// fixed point). Both images are then interpolated at complementary
 // fractions, so that linear interpolation smooths them alike and pulls no
 // disparity towards whole pixels.
 std::vector<PixelTerm> PixelTerms(const cv::Mat& disparity, const cv::Mat& usable, const cv::Mat& left,
@@ -290,7 +290,6 @@ DirectStereoResult RefineDirectStereo(const TriangleMesh& mesh, const StereoCali
     pose = Exp(step) * pose;
     result.pixels = eq.pixels;
     result.residual_sigma = eq.sigma;
-    result.information = eq.h / std::max(eq.sigma * eq.sigma, 1e-6);
     result.iterations = iteration + 1;
     if (step.head<3>().norm() * extent_m + step.tail<3>().norm() < options.converged_m) {
       result.converged = true;

@@ -92,7 +92,7 @@ FrameAnalyzer::FrameAnalyzer(const StereoCalibration& calibration, const Eigen::
   }
 }
 
-void FrameAnalyzer::EnableWindowBiasCorrection(TriangleMesh receiver) {
+void FrameAnalyzer::SetReceiverMesh(TriangleMesh receiver) {
   receiver_mesh_ = std::make_unique<TriangleMesh>(std::move(receiver));
 }
 

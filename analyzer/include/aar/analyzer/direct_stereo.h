@@ -93,12 +93,6 @@ struct DirectStereoResult {
   double residual_sigma = 0.0;  ///< robust standard deviation of the last iteration's residuals [grey levels]
   int iterations = 0;
   bool converged = false;
-  /// The last iteration's Gauss-Newton matrix over the residual variance,
-  /// J^T W J / sigma^2, for a motion (omega, t) applied in the rectified
-  /// left camera's frame: the pose's information if the pixels' residuals
-  /// were independent (they are not quite: blur and the resolve filter
-  /// spread each one over its neighbours).
-  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
 /// Refines `rect_left_from_receiver` on the rectified 8-bit grey images

@@ -77,13 +77,13 @@ struct FrameAnalysisOptions {
   SubpixelOptions subpixel;
   /// With refine_subpixel: predict each refined disparity's window bias on
   /// the model at the registered pose, subtract it and register again
-  /// (window_bias.h); needs FrameAnalyzer::EnableWindowBiasCorrection.
+  /// (window_bias.h); needs FrameAnalyzer::SetReceiverMesh.
   bool correct_window_bias = false;
   WindowBiasOptions window_bias;
   /// After registration, fit the pose (direct.fit: its translation, by
   /// default) to the rectified images directly (direct_stereo.h): every
   /// pixel the model covers, at the disparity the model has there; needs
-  /// FrameAnalyzer::EnableWindowBiasCorrection's mesh.
+  /// FrameAnalyzer::SetReceiverMesh.
   bool refine_direct = false;
   DirectStereoOptions direct;
   /// Re-projection: <= 750 m and <= 1.5 times the cloud's median depth;
@@ -196,8 +196,9 @@ class FrameAnalyzer {
   /// boom_tube.glb.
   void EnableBoomMask(TriangleMesh boom, TriangleMesh tube);
 
-  /// The receiver's mesh for options.correct_window_bias.
-  void EnableWindowBiasCorrection(TriangleMesh receiver);
+  /// The receiver's mesh, which the passes that predict the images from the
+  /// model need (options.correct_window_bias, options.refine_direct).
+  void SetReceiverMesh(TriangleMesh receiver);
 
   /// Analyzes frame `index` of `dataset`. Never throws for a bad frame: a
   /// missing or corrupt image, a malformed sidecar, a hash mismatch against
