@@ -302,8 +302,7 @@ void ScoreFrame(FrameResult& frame, const std::optional<DepthTruth>& depth, cons
   }
 }
 
-// The receiver mesh for the window-bias correction and the direct fit, and the boom mask, where the options ask for
-// them.
+// The receiver mesh for the model passes, and the boom mask, where the options ask for them.
 void EnableCorrections(FrameAnalyzer& analyzer, const AnalysisRunOptions& options, const Manifest& manifest,
                        const TriangleMesh& mesh) {
   if (options.frame.correct_window_bias || options.frame.refine_direct) analyzer.SetReceiverMesh(mesh);
