@@ -95,7 +95,7 @@ int RunCalibrate(int argc, char** argv) {
   options.distortion = aar::ParseDistortionModel(distortion);
   if (out.empty()) out = std::filesystem::path("results") / (DatasetName(dataset) + "-calibration");
   aar::CheckOutputFolder(out);
-  const aar::CalibrateOutput result = aar::CalibrateDataset(dataset, options);
+  const aar::CalibrateOutput result = aar::CalibrateDataset(aar::OpenedDataset::Open(dataset), options);
   aar::StagedOutput staged(out, "calibrate");
   aar::WriteCalibrationOutputs(staged.path(), result);
   staged.Commit();

@@ -1,5 +1,7 @@
 #include "run_flags.h"
 
+#include "aar/analyzer/options_record.h"
+#include "aar/analyzer/run_record.h"
 #include "aar/error.h"
 
 namespace aar::cli {
@@ -35,9 +37,14 @@ aar::ReferenceModelOptions ReferenceFlags::Resolve() const {
   return o;
 }
 
-void RunFlags::Add(CLI::App* cmd) {
+void RunFlags::Add(CLI::App* command) {
+  cmd = command;
   aar::AnalysisRunOptions& o = options;
   cmd->add_option("dataset", o.dataset, "dataset folder")->required();
+  cmd->add_option("--options-from", options_from,
+                  "a run folder: analyse with the options its run.json records (preset, every stage's settings, "
+                  "reference model, masks, filter) to reproduce it; only the dataset, --calibration, --receiver, "
+                  "--frames, --shard and the output flags may be given beside it");
   cmd->add_option("--preset", preset,
                   "pipeline: default (halo removal, BM rounding correction, "
                   "robust noise-weighted point-to-plane ICP) or thesis (Parsons 2017)")
@@ -162,6 +169,33 @@ void RunFlags::AddDump(CLI::App* cmd) {
       ->delimiter(',');
 }
 
+namespace {
+
+// The flags that choose what is analysed and where the results go, not how: allowed beside --options-from.
+bool SelectsInputOrOutput(const std::string& name) {
+  for (const char* flag : {"dataset", "--options-from", "--calibration", "--receiver", "--frames", "--shard", "--out",
+                           "--no-progress", "--dump-frames", "--help"}) {
+    if (name == flag) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+void RunFlags::ApplyOptionsFrom() {
+  for (const CLI::Option* option : cmd->get_options()) {
+    if (option->count() > 0 && !SelectsInputOrOutput(option->get_name())) {
+      throw aar::Error(option->get_name() +
+                       ": not with --options-from, which takes the analysis options "
+                       "from " +
+                       options_from + "'s run.json");
+    }
+  }
+  const nlohmann::json run = aar::ReadRunJson(options_from);
+  aar::ApplyRecordedOptions(run.at("options"), (std::filesystem::path(options_from) / aar::kRunJsonName).string(),
+                            options);
+}
+
 void RunFlags::Resolve() {
   aar::AnalysisRunOptions& o = options;
   const double max_residual = o.frame.max_icp_rmse_m;
@@ -233,6 +267,7 @@ void RunFlags::Resolve() {
   f.boom_mask.margin_px = boom_margin_px;
   if (mask_propellers || no_mask_propellers) o.mask_propellers = mask_propellers;
   f.Check();
+  if (!options_from.empty()) ApplyOptionsFrom();
   o.dump_frames = dump_frames;
   // Shards (Slurm array tasks) get folders of their own, never one another's.
   if (o.out.empty()) {

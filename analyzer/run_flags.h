@@ -49,6 +49,8 @@ struct RunFlags {
   double truth_cloud_noise_px = 0.0;
   int boom_margin_px = aar::BoomMaskOptions{}.margin_px;
   std::vector<size_t> dump_frames;
+  std::string options_from;  // a run folder whose run.json's options replace the analysis flags
+  CLI::App* cmd = nullptr;   // the command Add declared the flags on
 
   void Add(CLI::App* cmd);
   void AddRegistration(CLI::App* cmd);
@@ -58,6 +60,8 @@ struct RunFlags {
   void AddDump(CLI::App* cmd);
 
   void Resolve();
+  // --options-from: refuses the analysis flags, then takes the options the run folder's run.json records.
+  void ApplyOptionsFrom();
 };
 
 }  // namespace aar::cli

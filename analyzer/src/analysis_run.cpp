@@ -10,6 +10,7 @@
 #include "aar/analyzer/bench_yardstick.h"
 #include "aar/analyzer/bop_metrics.h"
 #include "aar/analyzer/mesh.h"
+#include "aar/analyzer/options_record.h"
 #include "aar/analyzer/ply.h"
 #include "aar/analyzer/run_record.h"
 #include "aar/analyzer/stereo_truth.h"
@@ -52,43 +53,6 @@ void WriteSummary(const std::filesystem::path& out, const nlohmann::json& run, c
   WriteFileAtomic(out / kSummaryMarkdownName, markdown);
 }
 
-// The dataset's copies of the render inputs must be the files the manifest
-// recorded (inputs.*.sha256 and files), or the analysis would silently use
-// another rig, flight path or receiver model than the images were made with.
-void CheckDatasetInputs(const std::filesystem::path& dataset, const Manifest& manifest, bool uses_receiver) {
-  const std::pair<const char*, const char*> inputs[] = {{"rig", kRigName},
-                                                        {"flight_path", kFlightPathName},
-                                                        {"receiver_model", kReceiverModelName},
-                                                        {"boom_model", kBoomModelName},
-                                                        {"boom_tube_model", kBoomTubeModelName}};
-  const nlohmann::json recorded = manifest.json.value("inputs", nlohmann::json::object());
-  for (const auto& [key, name] : inputs) {
-    std::vector<std::string> hashes;
-    if (const auto it = manifest.files.find(name); it != manifest.files.end()) hashes.push_back(it->second);
-    if (recorded.is_object() && recorded.contains(key) && recorded.at(key).is_object() &&
-        recorded.at(key).value("file", "") == name && recorded.at(key).contains("sha256")) {
-      if (!recorded.at(key).at("sha256").is_string()) {
-        throw Error((dataset / kManifestName).string() + ": inputs." + key + ".sha256 is not a string");
-      }
-      hashes.push_back(recorded.at(key).at("sha256").get<std::string>());
-    }
-    const std::filesystem::path file = dataset / name;
-    if (hashes.empty()) continue;
-    if (!std::filesystem::is_regular_file(file)) {
-      if (std::string(name) == kFlightPathName || (std::string(name) == kReceiverModelName && !uses_receiver)) continue;
-      throw Error(file.string() + ": missing (manifest.json records it)");
-    }
-    const std::string actual = Sha256File(file);
-    for (const std::string& hash : hashes) {
-      if (hash != actual) {
-        throw Error(file.string() +
-                    ": SHA-256 differs from manifest.json's (changed after rendering; restore it or "
-                    "render again)");
-      }
-    }
-  }
-}
-
 }  // namespace
 
 ReferenceModel BuildReferenceModel(const TriangleMesh& mesh, const StereoRig& rig, const ReferenceRequest& request,
@@ -103,7 +67,7 @@ ReferenceModel BuildReferenceModel(const TriangleMesh& mesh, const StereoRig& ri
   return model;
 }
 
-CalibrateOutput CalibrateDataset(const std::filesystem::path& dataset, const CalibrationOptions& options) {
+CalibrateOutput CalibrateDataset(const OpenedDataset& dataset, const CalibrationOptions& options) {
   CalibrateOutput out;
   out.result = CalibrateFromDataset(dataset, options);
   const CalibrationResult& r = out.result;
@@ -181,22 +145,19 @@ AnalysisRunOptions WithMasks(const AnalysisRunOptions& requested, const Manifest
 // What a run reads from the dataset before its first frame, checked: every
 // problem that makes the run impossible fails here, before any output.
 struct RunInputs {
-  Manifest manifest;
-  AnalysisRunOptions options;             // the request with the dataset's masks
-  std::vector<FlightSample> flight_path;  // truth for frames whose sidecar cannot be read
+  OpenedDataset dataset;
+  AnalysisRunOptions options;  // the request with the dataset's masks
   std::vector<size_t> selected;
-  StereoRig rig;
 };
 
 RunInputs OpenRunInputs(const AnalysisRunOptions& requested) {
   requested.frame.Check();
-  RunInputs in;
-  in.manifest = ReadManifest(requested.dataset);
-  const Manifest& manifest = in.manifest;
+  RunInputs in{OpenedDataset::Open(requested.dataset), {}, {}};
+  const Manifest& manifest = in.dataset.manifest();
   in.options = WithMasks(requested, manifest);
   const AnalysisRunOptions& options = in.options;
   if (options.write_outputs) CheckOutputFolder(options.out);
-  const std::string manifest_path = (options.dataset / kManifestName).string();
+  const std::string manifest_path = in.dataset.PathOf(kManifestName);
   if (manifest.frame_count == 0) throw Error(manifest_path + ": dataset has no frames");
   // Options that could only leave every frame unmeasured or unchanged are refused here.
   if (options.frame.mask_propellers && !PropellersTurn(manifest)) {
@@ -207,15 +168,6 @@ RunInputs OpenRunInputs(const AnalysisRunOptions& requested) {
     throw Error("--truth-cloud: " + manifest_path + " records no depth truth (frames.depth; render with --depth)");
   }
   options.selection.CheckWithin(manifest.frame_count, manifest_path);
-  CheckDatasetInputs(options.dataset, manifest, !options.receiver_model);
-  if (std::filesystem::is_regular_file(options.dataset / kFlightPathName)) {
-    in.flight_path = ReadFlightPath(options.dataset / kFlightPathName);
-    if (in.flight_path.size() != manifest.frame_count) {
-      throw Error(manifest_path + ": frames.count " + std::to_string(manifest.frame_count) + " differs from the " +
-                  std::to_string(in.flight_path.size()) + " samples of " +
-                  (options.dataset / kFlightPathName).string());
-    }
-  }
   in.selected = options.selection.Select(manifest.frame_count);
   if (manifest.complete) {
     // A complete manifest lists every frame: one that is not there would go unchecked.
@@ -227,11 +179,11 @@ RunInputs OpenRunInputs(const AnalysisRunOptions& requested) {
       }
     }
   }
-  in.rig = LoadRig(options.dataset / kRigName);
-  if (options.frame.disparity.num_disparities >= in.rig.left.intrinsics.width_px) {
+  const StereoRig& rig = in.dataset.rig();
+  if (options.frame.disparity.num_disparities >= rig.left.intrinsics.width_px) {
     throw Error("--num-disparities " + std::to_string(options.frame.disparity.num_disparities) +
-                ": must be below the image width (" + std::to_string(in.rig.left.intrinsics.width_px) + " px, " +
-                (options.dataset / kRigName).string() + ")");
+                ": must be below the image width (" + std::to_string(rig.left.intrinsics.width_px) + " px, " +
+                in.dataset.PathOf(kRigName) + ")");
   }
   for (size_t index : options.dump_frames) {
     if (!std::binary_search(in.selected.begin(), in.selected.end(), index)) {
@@ -242,6 +194,15 @@ RunInputs OpenRunInputs(const AnalysisRunOptions& requested) {
   return in;
 }
 
+// The receiver's mesh: the file given, or the dataset's copy (checked against the manifest by Open).
+TriangleMesh LoadRunReceiver(const RunInputs& in) {
+  if (in.options.receiver_model) return LoadReceiverMesh(*in.options.receiver_model);
+  const std::string* glb = in.dataset.Input(kReceiverModelName);
+  const std::string path = in.dataset.PathOf(kReceiverModelName);
+  if (glb == nullptr) throw Error(path + ": receiver model file not found");
+  return MeshFromGltf(*glb, path, in.dataset.folder().string());
+}
+
 // The run's calibration: the file given, or one from the dataset's boards.
 struct RunCalibration {
   std::optional<CalibrateOutput> calibrated;  // when calibrated from calib/
@@ -249,16 +210,19 @@ struct RunCalibration {
   nlohmann::json source;  // run.json's "calibration"
 };
 
-RunCalibration LoadRunCalibration(const AnalysisRunOptions& options, const StereoRig& rig) {
+RunCalibration LoadRunCalibration(const AnalysisRunOptions& options, const OpenedDataset& dataset) {
   RunCalibration c;
   if (options.calibration) {
-    c.calibration = ReadCalibration(*options.calibration);
-    c.source = {{"file", options.calibration->filename().string()}, {"sha256", Sha256File(*options.calibration)}};
+    CheckRegularFile(*options.calibration, "calibration file");
+    const std::string yaml = ReadFileBytes(*options.calibration);
+    c.calibration = ParseCalibration(yaml, options.calibration->string());
+    c.source = {{"file", options.calibration->filename().string()}, {"sha256", Sha256Hex(yaml)}};
   } else {
-    c.calibrated = CalibrateDataset(options.dataset, options.calibration_options);
+    c.calibrated = CalibrateDataset(dataset, options.calibration_options);
     c.calibration = c.calibrated->result.calibration;
     c.source = {{"calibrated_from", "calib/"}, {"used_pairs", c.calibrated->result.used_pairs}};
   }
+  const StereoRig& rig = dataset.rig();
   const cv::Size rig_size(rig.left.intrinsics.width_px, rig.left.intrinsics.height_px);
   if (c.calibration.image_size != rig_size) {
     throw Error((options.calibration ? options.calibration->string() : std::string("calibration")) + ": image size " +
@@ -303,17 +267,20 @@ void ScoreFrame(FrameResult& frame, const std::optional<DepthTruth>& depth, cons
 }
 
 // The receiver mesh for the model passes, and the boom mask, where the options ask for them.
-void EnableCorrections(FrameAnalyzer& analyzer, const AnalysisRunOptions& options, const Manifest& manifest,
-                       const TriangleMesh& mesh) {
+void EnableCorrections(FrameAnalyzer& analyzer, const RunInputs& in, const TriangleMesh& mesh) {
+  const AnalysisRunOptions& options = in.options;
   if (options.frame.correct_window_bias || options.frame.refine_direct) analyzer.SetReceiverMesh(mesh);
   if (options.frame.mask_boom) {
-    // CheckDatasetInputs has checked the copies against the hashes the manifest records.
-    if (!HasBoom(manifest)) {
+    // OpenedDataset::Open has checked the copies against the hashes the manifest records.
+    const std::string* boom = in.dataset.Input(kBoomModelName);
+    const std::string* tube = in.dataset.Input(kBoomTubeModelName);
+    if (!HasBoom(in.dataset.manifest()) || boom == nullptr || tube == nullptr) {
       throw Error("--mask-boom: " + options.dataset.string() +
                   " has no boom (boom.glb, boom_tube.glb: render a flight path with the boom columns, or --boom)");
     }
-    analyzer.EnableBoomMask(LoadReceiverMesh(options.dataset / kBoomModelName),
-                            LoadReceiverMesh(options.dataset / kBoomTubeModelName));
+    const std::string folder = in.dataset.folder().string();
+    analyzer.EnableBoomMask(MeshFromGltf(*boom, in.dataset.PathOf(kBoomModelName), folder),
+                            MeshFromGltf(*tube, in.dataset.PathOf(kBoomTubeModelName), folder));
   }
 }
 
@@ -322,14 +289,14 @@ nlohmann::json RunRecord(const RunInputs& in, const RunCalibration& calibration,
                          const BopObject& bop_object) {
   const AnalysisRunOptions& options = in.options;
   return {{"schema", "aar-run/1"},
-          {"dataset_manifest_sha256", Sha256File(options.dataset / kManifestName)},
+          {"dataset_manifest_sha256", in.dataset.manifest_sha256()},
           {"model", reference.name},
           {"reference_points", reference.points_in_receiver.size()},
           {"calibration", calibration.source},
           {"frames", DescribeSelection(options.selection)},
           {"frames_analyzed", in.selected.size()},
           {"options", OptionsJson(options)},
-          {"bop", BopJson(bop_object, in.rig.left)}};
+          {"bop", BopJson(bop_object, in.dataset.rig().left)}};
 }
 
 // The run's calibration and reference model, into its output folder `out`.
@@ -346,11 +313,12 @@ void WriteRunInputs(const std::filesystem::path& out, const RunCalibration& cali
 
 // A frame the analysis stopped on before reading its sidecar: its time,
 // truth, range and region from the flight path.
-void FillFromFlightPath(FrameResult& frame, const RunInputs& in, size_t index) {
-  if (frame.range_m != 0.0 || index >= in.flight_path.size()) return;
-  frame.time_s = in.flight_path[index].time_s;
-  frame.truth = in.flight_path[index].tanker_from_receiver;
-  frame.range_m = (frame.truth.translation_m - in.rig.left.tanker_from_camera.translation()).norm();
+void FillFromFlightPath(FrameResult& frame, const OpenedDataset& dataset, size_t index) {
+  const std::vector<FlightSample>& path = dataset.flight_path();
+  if (frame.range_m != 0.0 || index >= path.size()) return;
+  frame.time_s = path[index].time_s;
+  frame.truth = path[index].tanker_from_receiver;
+  frame.range_m = (frame.truth.translation_m - dataset.rig().left.tanker_from_camera.translation()).norm();
   frame.region = RegionForRange(frame.range_m);
 }
 
@@ -364,10 +332,9 @@ class YardstickSamples {
   }
 
   // Times the yardstick on frame `index` when it is the analyzed-th frame's turn.
-  void After(const AnalysisRunOptions& options, const Manifest& manifest, const FrameResult& frame, size_t index,
-             size_t analyzed) {
+  void After(const OpenedDataset& dataset, const FrameResult& frame, size_t index, size_t analyzed) {
     if (whole_rectifier_ && frame.ok() && analyzed % stride_ == 0) {
-      times_ms_.push_back(TimeStereoBmYardstick(options.dataset, manifest, *whole_rectifier_, index));
+      times_ms_.push_back(TimeStereoBmYardstick(dataset, *whole_rectifier_, index));
     }
   }
 
@@ -390,9 +357,9 @@ class YardstickSamples {
 AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   const RunInputs in = OpenRunInputs(requested);
   const AnalysisRunOptions& options = in.options;
-  const StereoRig& rig = in.rig;
-  const RunCalibration calibration = LoadRunCalibration(options, rig);
-  const TriangleMesh mesh = LoadReceiverMesh(options.receiver_model.value_or(options.dataset / kReceiverModelName));
+  const StereoRig& rig = in.dataset.rig();
+  const RunCalibration calibration = LoadRunCalibration(options, in.dataset);
+  const TriangleMesh mesh = LoadRunReceiver(in);
   ReferenceModel full_surface;  // for FrameAnalysisOptions::pair_sensed_with_full_surface
   const ReferenceModel reference = BuildReferenceModel(mesh, rig, options.reference, &full_surface);
   if (options.progress) {
@@ -401,7 +368,7 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
   }
   const BopObject bop_object(mesh);
   FrameAnalyzer analyzer(calibration.calibration, rig.left.tanker_from_camera, reference, options.frame, &full_surface);
-  EnableCorrections(analyzer, options, in.manifest, mesh);
+  EnableCorrections(analyzer, in, mesh);
   const nlohmann::json run = RunRecord(in, calibration, reference, bop_object);
   // Written into a staging folder and put in place at the end (output_folder.h).
   std::optional<StagedOutput> staged;
@@ -424,18 +391,17 @@ AnalysisRunResult RunAnalysis(const AnalysisRunOptions& requested) {
     FrameDump dump;
     const bool dumped = options.write_outputs && dump_frames.contains(index);
     std::optional<DepthTruth> depth;  // VSD's test depth, where the dataset has it
-    FrameResult frame =
-        analyzer.Analyze(options.dataset, index, in.manifest, history, dumped ? &dump : nullptr, &depth);
+    FrameResult frame = analyzer.Analyze(in.dataset, index, history, dumped ? &dump : nullptr, &depth);
     if (dumped) WriteFrameDump(out / kFrameDumpDir, index, dump, projection);
     if (frame.ok()) {
       history.before_last = history.last;
       history.last = std::make_pair(frame.time_s, frame.estimate);
     } else {
-      FillFromFlightPath(frame, in, index);
+      FillFromFlightPath(frame, in.dataset, index);
       history = TrackHistory{};
       if (options.progress) std::fprintf(stderr, "frame %zu not measured: %s\n", index, frame.status.c_str());
     }
-    yardstick.After(options, in.manifest, frame, index, result.frames.size());
+    yardstick.After(in.dataset, frame, index, result.frames.size());
     ScoreFrame(frame, depth, bop_object, mesh, rig);
     result.frames.push_back(std::move(frame));
     if (options.progress) progress.Advance();

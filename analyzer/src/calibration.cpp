@@ -11,7 +11,6 @@
 #include "aar/analyzer/dataset_image.h"
 #include "aar/analyzer/disparity.h"
 #include "aar/error.h"
-#include "aar/json_number.h"
 #include "aar/text.h"
 
 namespace aar {
@@ -128,26 +127,21 @@ void BoardDepthRange(const BoardSpec& board, const cv::Mat& rvecs, const cv::Mat
 }
 
 // A board image, checked against its sidecar's and the manifest's SHA-256 first.
-cv::Mat ReadImage(const std::filesystem::path& dataset, const Manifest& manifest, const FileRef& ref) {
-  return ReadListedImage(dataset, manifest, ref, cv::IMREAD_COLOR, "calibration image");
+cv::Mat ReadImage(const OpenedDataset& dataset, const FileRef& ref) {
+  return ReadListedImage(dataset, ref, cv::IMREAD_COLOR, "calibration image");
 }
 
-/// The board spec a calib sidecar records (the physical board, not truth);
-/// `fallback` when the sidecar or its "board" is absent.
-BoardSpec SidecarBoard(const std::filesystem::path& sidecar, const BoardSpec& fallback) {
-  if (!std::filesystem::is_regular_file(sidecar)) return fallback;
-  const nlohmann::json j = ReadJsonFile(sidecar);
-  if (!j.contains("board")) return fallback;
+// The comparison's ideal: calibration_ideal.yaml where the dataset has it,
+// else the rig's exact rectified calibration where it has one.
+std::optional<StereoCalibration> IdealOf(const OpenedDataset& dataset) {
+  if (const std::optional<std::string> yaml = dataset.ReadIfPresent(kIdealCalibrationName)) {
+    return ParseCalibration(*yaml, dataset.PathOf(kIdealCalibrationName));
+  }
+  if (!dataset.has_rig()) return std::nullopt;
   try {
-    BoardSpec b;
-    const nlohmann::json& corners = j.at("board").at("inner_corners");
-    b.inner_corners_x = static_cast<int>(JsonInteger(corners.at(0), 2, 1000, "board.inner_corners[0]"));
-    b.inner_corners_y = static_cast<int>(JsonInteger(corners.at(1), 2, 1000, "board.inner_corners[1]"));
-    b.square_m = j.at("board").at("square_m").get<double>();
-    if (b.inner_corners_x < 2 || b.inner_corners_y < 2 || !(b.square_m > 0)) throw Error("bad values");
-    return b;
-  } catch (const std::exception& e) {
-    throw Error(sidecar.string() + ": bad board spec: " + e.what());
+    return IdealCalibration(dataset.rig());
+  } catch (const Error&) {
+    return std::nullopt;  // a rig without an exact rectified ideal: no comparison
   }
 }
 
@@ -326,50 +320,41 @@ CalibrationResult CalibrateFromImages(const std::vector<StereoImagePair>& pairs,
   return CalibrateFromDetections(std::move(detections), size, options, ideal, "images");
 }
 
-CalibrationResult CalibrateFromDataset(const std::filesystem::path& dataset, const CalibrationOptions& options) {
-  const Manifest manifest = ReadManifest(dataset);
-  if (manifest.calib_pair_count == 0) throw Error(dataset.string() + ": the manifest lists no calibration pairs");
+CalibrationResult CalibrateFromDataset(const OpenedDataset& dataset, const CalibrationOptions& options) {
+  const Manifest& manifest = dataset.manifest();
+  if (manifest.calib_pair_count == 0) {
+    throw Error(dataset.folder().string() + ": the manifest lists no calibration pairs");
+  }
   CalibrationOptions opts = options;
-  opts.board = SidecarBoard(SidecarPath(dataset, "calib", 0), options.board);
   if (opts.distortion == DistortionModel::kAuto) {
     // The lens model the rig declares (a camera with "distortion"), never its coefficients.
-    const bool distorted =
-        std::filesystem::is_regular_file(dataset / kRigName) && HasDistortion(LoadRig(dataset / kRigName));
+    const bool distorted = dataset.has_rig() && HasDistortion(dataset.rig());
     opts.distortion = distorted ? DistortionModel::kBrownConrady : DistortionModel::kPinhole;
   }
 
   std::vector<PairDetection> detections;
   cv::Size size;
   for (size_t i = 0; i < manifest.calib_pair_count; ++i) {
-    const FrameSidecar sidecar = ReadListedSidecar(dataset, manifest, "calib", i);
+    const FrameSidecar sidecar = dataset.Sidecar("calib", i);
+    // The board the first sidecar records (the physical board, not truth).
+    if (i == 0 && sidecar.board) opts.board = *sidecar.board;
     StereoImagePair pair;
     pair.left_name = sidecar.files.at("left").path;
     pair.right_name = sidecar.files.at("right").path;
-    pair.left = ReadImage(dataset, manifest, sidecar.files.at("left"));
-    pair.right = ReadImage(dataset, manifest, sidecar.files.at("right"));
+    pair.left = ReadImage(dataset, sidecar.files.at("left"));
+    pair.right = ReadImage(dataset, sidecar.files.at("right"));
     if (i == 0) size = pair.left.size();
     for (const auto& [image, name] :
          {std::pair{&pair.left, &pair.left_name}, std::pair{&pair.right, &pair.right_name}}) {
       if (image->size() != size) {
-        throw Error((dataset / *name).string() + ": image is " + std::to_string(image->cols) + "x" +
+        throw Error(dataset.PathOf(*name) + ": image is " + std::to_string(image->cols) + "x" +
                     std::to_string(image->rows) + ", expected " + std::to_string(size.width) + "x" +
                     std::to_string(size.height));
       }
     }
     detections.push_back(DetectBoardPair(pair, opts));
   }
-
-  std::optional<StereoCalibration> ideal;
-  if (std::filesystem::is_regular_file(dataset / kIdealCalibrationName)) {
-    ideal = ReadCalibration(dataset / kIdealCalibrationName);
-  } else if (std::filesystem::is_regular_file(dataset / kRigName)) {
-    try {
-      ideal = IdealCalibration(LoadRig(dataset / kRigName));
-    } catch (const Error&) {
-      ideal.reset();  // a rig without an exact rectified ideal: no comparison
-    }
-  }
-  return CalibrateFromDetections(std::move(detections), size, opts, ideal, dataset.string());
+  return CalibrateFromDetections(std::move(detections), size, opts, IdealOf(dataset), dataset.folder().string());
 }
 
 cv::Mat QPercentError(const cv::Mat& q, const cv::Mat& q_ideal) {

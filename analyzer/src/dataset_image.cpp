@@ -90,10 +90,9 @@ cv::Mat DecodeVerifiedPng(std::string_view bytes, int flags) {
   return image;
 }
 
-cv::Mat ReadListedImage(const std::filesystem::path& dataset, const Manifest& manifest, const FileRef& ref, int flags,
-                        const std::string& what) {
-  const std::string path = (dataset / ref.path).string();
-  const std::string bytes = ReadListedFile(dataset, manifest, ref);
+cv::Mat ReadListedImage(const OpenedDataset& dataset, const FileRef& ref, int flags, const std::string& what) {
+  const std::string path = dataset.PathOf(ref.path);
+  const std::string bytes = dataset.ReadFile(ref);
   CheckPngStructure(bytes, path);
   const cv::Mat image = DecodeVerifiedPng(bytes, flags);
   if (image.empty()) throw Error(path + ": cannot decode " + what);

@@ -90,8 +90,8 @@ void ExportCamera(const ExportSource& source, const std::string& side, const std
     const std::string id = std::to_string(frame.index);
     WriteExportFile(out, dir + "rgb/" + stem + ".png", ReadVerifiedFile(source, frame.files.at(side)), result);
 
-    const DepthTruth truth = ReadDepthTruth(source.dataset / frame.files.at(side + "_depth").path,
-                                            source.dataset / frame.files.at(side + "_mask").path);
+    const DepthTruth truth = ReadDepthTruth(source.dataset.folder() / frame.files.at(side + "_depth").path,
+                                            source.dataset.folder() / frame.files.at(side + "_mask").path);
     cv::Mat depth(truth.depth_m.size(), CV_16UC1);
     for (int y = 0; y < depth.rows; ++y) {
       for (int x = 0; x < depth.cols; ++x) {
@@ -101,7 +101,7 @@ void ExportCamera(const ExportSource& source, const std::string& side, const std
     }
     WriteExportFile(out, dir + "depth/" + stem + ".png", EncodePngOrThrow(depth, dir + "depth/" + stem + ".png"),
                     result);
-    const cv::Mat silhouette = ReadGrey(source.dataset / frame.files.at(side + "_silhouette").path) == 255;
+    const cv::Mat silhouette = ReadGrey(source.dataset.folder() / frame.files.at(side + "_silhouette").path) == 255;
     const cv::Mat visible = truth.ids == kReceiverId;
     const std::string mask_name = stem + "_000000.png";
     WriteExportFile(out, dir + "mask/" + mask_name, EncodePngOrThrow(silhouette, mask_name), result);
@@ -168,13 +168,13 @@ ExportResult ExportBop(const ExportOptions& options) {
     throw Error(options.dataset.string() +
                 ": BOP's camera model is a pinhole (cam_K), and this dataset's cameras have lens distortion");
   }
-  const std::filesystem::path receiver = options.dataset / kReceiverModelName;
-  if (const auto it = source.manifest.files.find(kReceiverModelName); it == source.manifest.files.end() ||
-                                                                      !std::filesystem::is_regular_file(receiver) ||
-                                                                      Sha256File(receiver) != it->second) {
-    throw Error(receiver.string() + ": missing, or its SHA-256 differs from manifest.json's");
+  const std::string receiver = source.dataset.PathOf(kReceiverModelName);
+  // Open has checked the copy against the manifest's SHA-256 where the manifest lists it.
+  const std::string* glb = source.dataset.Input(kReceiverModelName);
+  if (glb == nullptr || !source.dataset.manifest().files.contains(kReceiverModelName)) {
+    throw Error(receiver + ": missing, or not listed in manifest.json");
   }
-  const TriangleMesh mesh = LoadReceiverMesh(receiver);
+  const TriangleMesh mesh = MeshFromGltf(*glb, receiver, source.dataset.folder().string());
   // The right camera type needs right-camera truth in every frame; every file is checked before writing.
   bool right = true;
   for (const FrameSidecar& frame : source.frames) {

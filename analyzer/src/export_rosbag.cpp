@@ -364,7 +364,7 @@ std::vector<Connection> BagConnections(bool with_run) {
 void AddFrameMessages(ChunkBuilder& chunk, const std::vector<Connection>& connections, const ExportSource& source,
                       size_t k, const StereoCalibration& calibration, const FrameResult* estimate) {
   const FrameSidecar& frame = source.frames[k];
-  const std::string sidecar = SidecarPath(source.dataset, "frame", frame.index).string();
+  const std::string sidecar = SidecarPath(source.dataset.folder(), "frame", frame.index).string();
   const RosTime stamp = ToRosTime(frame.time_s, sidecar);
   const uint32_t seq = static_cast<uint32_t>(frame.index);
   if (k == 0) {
@@ -376,9 +376,8 @@ void AddFrameMessages(ChunkBuilder& chunk, const std::vector<Connection>& connec
   for (const bool left : {true, false}) {
     const char* camera = left ? "left" : "right";
     const std::string frame_id = std::string(camera) + "_camera";
-    const cv::Mat image =
-        ReadListedImage(source.dataset, source.manifest, RequireFile(source, frame, camera, "aar-render render"),
-                        cv::IMREAD_UNCHANGED, std::string(camera) + " image");
+    const cv::Mat image = ReadListedImage(source.dataset, RequireFile(source, frame, camera, "aar-render render"),
+                                          cv::IMREAD_UNCHANGED, std::string(camera) + " image");
     chunk.Add(connections[left ? 1 : 3], stamp, ImageMessage(image, seq, stamp, frame_id, sidecar));
     chunk.Add(connections[left ? 2 : 4], stamp, CameraInfoMessage(calibration, left, seq, stamp, frame_id));
   }
@@ -411,7 +410,7 @@ void WriteBagIndex(std::ofstream& out, const std::vector<Connection>& connection
 ExportResult ExportRosbag(const ExportOptions& options) {
   const ExportSource source = ReadExportSource(options);
   const StereoCalibration calibration = ReadIdealCalibration(source);
-  const std::vector<FrameResult> run = ReadRunEstimates(options);
+  const std::vector<FrameResult> run = ReadRunEstimates(options, source);
   const std::map<size_t, const FrameResult*> estimates = MeasuredFramesByIndex(run);
   const std::vector<Connection> connections = BagConnections(options.run.has_value());
 

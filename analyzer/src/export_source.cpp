@@ -12,28 +12,25 @@
 namespace aar {
 
 ExportSource ReadExportSource(const ExportOptions& options) {
-  ExportSource source;
-  source.dataset = options.dataset;
-  source.manifest = ReadManifest(options.dataset);
-  const std::string manifest_path = (options.dataset / kManifestName).string();
-  if (source.manifest.frame_count == 0) throw Error(manifest_path + ": dataset has no frames");
-  const std::vector<size_t> selected = options.selection.Select(source.manifest.frame_count);
+  ExportSource source{OpenedDataset::Open(options.dataset), {}};
+  const Manifest& manifest = source.dataset.manifest();
+  const std::string manifest_path = source.dataset.PathOf(kManifestName);
+  if (manifest.frame_count == 0) throw Error(manifest_path + ": dataset has no frames");
+  const std::vector<size_t> selected = options.selection.Select(manifest.frame_count);
   if (selected.empty()) {
-    throw Error(manifest_path + ": no frame selected (the dataset has " + std::to_string(source.manifest.frame_count) +
-                ")");
+    throw Error(manifest_path + ": no frame selected (the dataset has " + std::to_string(manifest.frame_count) + ")");
   }
-  for (size_t index : selected)
-    source.frames.push_back(ReadListedSidecar(options.dataset, source.manifest, "frame", index));
+  for (size_t index : selected) source.frames.push_back(source.dataset.Sidecar("frame", index));
   return source;
 }
 
-std::vector<FrameResult> ReadRunEstimates(const ExportOptions& options) {
+std::vector<FrameResult> ReadRunEstimates(const ExportOptions& options, const ExportSource& source) {
   if (!options.run) return {};
   const std::filesystem::path run_json = *options.run / kRunJsonName;
   const std::string manifest_hash = ReadJsonFile(run_json).value("dataset_manifest_sha256", "");
-  if (manifest_hash != Sha256File(options.dataset / kManifestName)) {
+  if (manifest_hash != source.dataset.manifest_sha256()) {
     throw Error(run_json.string() + ": the run analyzed another dataset (dataset_manifest_sha256 differs from " +
-                (options.dataset / kManifestName).string() + "'s)");
+                source.dataset.PathOf(kManifestName) + "'s)");
   }
   std::vector<FrameResult> estimates = ReadFrameResults(*options.run / kFramesCsvName);
   std::sort(estimates.begin(), estimates.end(),
@@ -42,24 +39,22 @@ std::vector<FrameResult> ReadRunEstimates(const ExportOptions& options) {
 }
 
 StereoCalibration ReadIdealCalibration(const ExportSource& source) {
-  const std::filesystem::path yaml = source.dataset / kIdealCalibrationName;
-  if (const auto it = source.manifest.files.find(kIdealCalibrationName);
-      it == source.manifest.files.end() || !std::filesystem::is_regular_file(yaml) || Sha256File(yaml) != it->second) {
-    throw Error(yaml.string() + ": missing, or its SHA-256 differs from manifest.json's");
+  const std::string path = source.dataset.PathOf(kIdealCalibrationName);
+  const std::optional<std::string> yaml = source.dataset.ReadIfPresent(kIdealCalibrationName);
+  if (!yaml || !source.dataset.manifest().files.contains(kIdealCalibrationName)) {
+    throw Error(path + ": missing, or not listed in manifest.json");
   }
-  return ReadCalibration(yaml);
+  return ParseCalibration(*yaml, path);
 }
 
-std::string ReadVerifiedFile(const ExportSource& source, const FileRef& ref) {
-  return ReadListedFile(source.dataset, source.manifest, ref);
-}
+std::string ReadVerifiedFile(const ExportSource& source, const FileRef& ref) { return source.dataset.ReadFile(ref); }
 
 const FileRef& RequireFile(const ExportSource& source, const FrameSidecar& frame, const std::string& role,
                            const std::string& need) {
   const auto it = frame.files.find(role);
   if (it == frame.files.end()) {
-    throw Error(SidecarPath(source.dataset, "frame", frame.index).string() + ": no " + role + " (render with " + need +
-                ")");
+    throw Error(SidecarPath(source.dataset.folder(), "frame", frame.index).string() + ": no " + role +
+                " (render with " + need + ")");
   }
   return it->second;
 }

@@ -18,7 +18,7 @@ std::string TumLine(double time_s, const Pose& tanker_from_receiver) {
 
 ExportResult ExportTum(const ExportOptions& options) {
   const ExportSource source = ReadExportSource(options);
-  const std::vector<FrameResult> estimates = ReadRunEstimates(options);
+  const std::vector<FrameResult> estimates = ReadRunEstimates(options, source);
   const std::string header = "# t tx ty tz qx qy qz qw: tanker_from_receiver, time [s], translation [m]\n";
   std::string truth = header;
   std::set<size_t> selected;

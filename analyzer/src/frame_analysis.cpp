@@ -40,9 +40,8 @@ Eigen::Isometry3d LeftFromRectLeft(const StereoCalibration& calibration) {
 }
 
 // Reads one image of the pair, checking its hash against the sidecar and the manifest.
-cv::Mat ReadImage(const std::filesystem::path& dataset, const FileRef& ref, const Manifest& manifest,
-                  int flags = cv::IMREAD_COLOR) {
-  return ReadListedImage(dataset, manifest, ref, flags, "image");
+cv::Mat ReadImage(const OpenedDataset& dataset, const FileRef& ref, int flags = cv::IMREAD_COLOR) {
+  return ReadListedImage(dataset, ref, flags, "image");
 }
 
 // The receiver's pose at `time_s` by constant velocity from the last two
@@ -351,24 +350,23 @@ RegistrationResult FrameAnalyzer::MeasureFrame(const FrameInputs& in, const std:
   return icp;
 }
 
-FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t index, const Manifest& manifest,
-                                   const TrackHistory& history, FrameDump* dump,
-                                   std::optional<DepthTruth>* depth_truth) const {
+FrameResult FrameAnalyzer::Analyze(const OpenedDataset& dataset, size_t index, const TrackHistory& history,
+                                   FrameDump* dump, std::optional<DepthTruth>* depth_truth) const {
   const auto frame_start = std::chrono::steady_clock::now();
   FrameResult r;
   r.frame = index;
   if (depth_truth != nullptr) depth_truth->reset();
   try {
     auto start = std::chrono::steady_clock::now();
-    const FrameSidecar sidecar = ReadListedSidecar(dataset, manifest, "frame", index);
+    const FrameSidecar sidecar = dataset.Sidecar("frame", index);
     r.time_s = sidecar.time_s;
     r.truth = sidecar.tanker_from_target;
     r.range_m = sidecar.range_m;
     r.region = RegionForRange(sidecar.range_m);
     FrameInputs in;
-    in.left = ReadImage(dataset, sidecar.files.at("left"), manifest);
-    in.right = ReadImage(dataset, sidecar.files.at("right"), manifest);
-    in.left_path = (dataset / sidecar.files.at("left").path).string();
+    in.left = ReadImage(dataset, sidecar.files.at("left"));
+    in.right = ReadImage(dataset, sidecar.files.at("right"));
+    in.left_path = dataset.PathOf(sidecar.files.at("left").path);
     if (in.left.size() != rectifier_.image_size() || in.right.size() != rectifier_.image_size()) {
       throw Error(in.left_path + ": image size differs from the calibration's");
     }
@@ -378,8 +376,8 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
       dump->tanker_from_receiver_truth = IsometryFromPose(r.truth);
     }
     if (options_.compare_with_truth && sidecar.files.count("left_depth") && sidecar.files.count("left_mask")) {
-      in.truth =
-          ReadDepthTruth(dataset / sidecar.files.at("left_depth").path, dataset / sidecar.files.at("left_mask").path);
+      in.truth = ReadDepthTruth(dataset.folder() / sidecar.files.at("left_depth").path,
+                                dataset.folder() / sidecar.files.at("left_mask").path);
       if (depth_truth != nullptr) *depth_truth = in.truth;
     } else if (options_.register_truth_cloud) {
       throw Error(in.left_path + ": no depth truth for the ideal cloud (render with --depth)");
@@ -391,8 +389,8 @@ FrameResult FrameAnalyzer::Analyze(const std::filesystem::path& dataset, size_t 
     if (sidecar.boom && sidecar.files.count("left_mask") && sidecar.files.count("left_silhouette")) {
       // The id mask was read with the depth truth when the run compares with it.
       r.receiver_occluded_fraction = ReceiverOccludedFraction(
-          in.truth ? in.truth->ids : ReadImage(dataset, sidecar.files.at("left_mask"), manifest, cv::IMREAD_GRAYSCALE),
-          ReadImage(dataset, sidecar.files.at("left_silhouette"), manifest, cv::IMREAD_GRAYSCALE));
+          in.truth ? in.truth->ids : ReadImage(dataset, sidecar.files.at("left_mask"), cv::IMREAD_GRAYSCALE),
+          ReadImage(dataset, sidecar.files.at("left_silhouette"), cv::IMREAD_GRAYSCALE));
     }
     in.boom = boom_masks ? &*boom_masks : nullptr;
     std::string why;

@@ -5,7 +5,6 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <string>
 
 #include "aar/error.h"
@@ -77,26 +76,25 @@ void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& pr
   }
 }
 
-bool HasGlbMagic(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  char magic[4] = {};
-  in.read(magic, 4);
-  return in.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
-}
-
 }  // namespace
 
 TriangleMesh LoadReceiverMesh(const std::filesystem::path& path) {
-  const std::string where = path.string();
   CheckRegularFile(path, "receiver model file");
+  return MeshFromGltf(ReadFileBytes(path), path.string(), path.parent_path().string());
+}
 
+TriangleMesh MeshFromGltf(const std::string& bytes, const std::string& where, const std::string& base_dir) {
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&SkipImage, nullptr);
   tinygltf::Model model;
   std::string err;
   std::string warn;
-  const bool ok = HasGlbMagic(path) ? loader.LoadBinaryFromFile(&model, &err, &warn, path.string())
-                                    : loader.LoadASCIIFromFile(&model, &err, &warn, path.string());
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  const bool ok =
+      bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0
+          ? loader.LoadBinaryFromMemory(&model, &err, &warn, data, static_cast<unsigned int>(bytes.size()), base_dir)
+          : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), static_cast<unsigned int>(bytes.size()),
+                                       base_dir);
   if (!ok) {
     while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
     throw Error(where + ": not a readable glTF file" + (err.empty() ? std::string() : " (" + err + ")"));

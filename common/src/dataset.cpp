@@ -78,9 +78,9 @@ nlohmann::json SidecarToJson(const FrameSidecar& s) {
   return j;
 }
 
-FrameSidecar ReadSidecar(const std::filesystem::path& path) {
-  const nlohmann::json j = ReadJsonFile(path);
-  const std::string where = path.string();
+FrameSidecar ReadSidecar(const std::filesystem::path& path) { return ParseSidecar(ReadJsonFile(path), path.string()); }
+
+FrameSidecar ParseSidecar(const nlohmann::json& j, const std::string& where) {
   try {
     if (j.value("schema", "") != kFrameSchema) throw Error(where + ": schema is not " + kFrameSchema);
     FrameSidecar s;
@@ -104,6 +104,7 @@ FrameSidecar ReadSidecar(const std::filesystem::path& path) {
       b.inner_corners_y = static_cast<int>(
           JsonInteger(j.at("board").at("inner_corners").at(1), 2, 1000, where + ": board.inner_corners[1]"));
       b.square_m = j.at("board").at("square_m").get<double>();
+      if (!(b.square_m > 0.0)) throw Error(where + ": board.square_m must be positive");
       s.board = b;
     }
     if (j.contains("boom")) {
@@ -142,39 +143,6 @@ bool SidecarVerified(const std::filesystem::path& dataset, const std::filesystem
   }
 }
 
-std::string ReadListedFile(const std::filesystem::path& dataset, const Manifest& manifest, const FileRef& ref) {
-  const std::filesystem::path path = dataset / ref.path;
-  if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": missing");
-  std::string bytes = ReadFileBytes(path);
-  const std::string hash = Sha256Hex(bytes);
-  if (hash != ref.sha256)
-    throw Error(path.string() + ": SHA-256 differs from the sidecar's (file changed or truncated)");
-  if (const auto it = manifest.files.find(ref.path); it != manifest.files.end() && it->second != hash) {
-    throw Error(path.string() + ": SHA-256 differs from manifest.json's");
-  }
-  return bytes;
-}
-
-FrameSidecar ReadListedSidecar(const std::filesystem::path& dataset, const Manifest& manifest, const std::string& kind,
-                               size_t index) {
-  const std::filesystem::path path = SidecarPath(dataset, kind, index);
-  if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": sidecar missing (not rendered)");
-  const std::string relative = std::filesystem::relative(path, dataset).generic_string();
-  if (const auto it = manifest.files.find(relative); it != manifest.files.end() && it->second != Sha256File(path)) {
-    throw Error(path.string() + ": SHA-256 differs from manifest.json's");
-  }
-  FrameSidecar sidecar = ReadSidecar(path);
-  const std::string& settings = kind == "calib" ? manifest.calib_settings_sha256 : manifest.frame_settings_sha256;
-  if (!settings.empty() && !sidecar.settings_sha256.empty() && sidecar.settings_sha256 != settings) {
-    throw Error(path.string() + ": rendered with other settings than manifest.json records");
-  }
-  if (sidecar.kind != kind || sidecar.index != index) {
-    throw Error(path.string() + ": holds " + sidecar.kind + " " + std::to_string(sidecar.index) + ", not " + kind +
-                " " + std::to_string(index));
-  }
-  return sidecar;
-}
-
 nlohmann::json RenderSettings(const nlohmann::json& manifest, const std::string& kind) {
   // The inputs each kind reads; the other kind's inputs do not shape its pairs.
   static const std::vector<std::string> kFrameInputs = {
@@ -209,29 +177,33 @@ Manifest ReadManifest(const std::filesystem::path& dataset) {
   if (!std::filesystem::is_regular_file(path)) {
     throw Error(path.string() + ": no manifest (is '" + dataset.string() + "' a dataset folder?)");
   }
+  return ParseManifest(ReadJsonFile(path), path.string());
+}
+
+Manifest ParseManifest(nlohmann::json json, const std::string& where) {
   Manifest m;
-  m.json = ReadJsonFile(path);
+  m.json = std::move(json);
   try {
     m.schema = m.json.at("schema").get<std::string>();
-    if (m.schema != kDatasetSchema) throw Error(path.string() + ": unsupported schema '" + m.schema + "'");
+    if (m.schema != kDatasetSchema) throw Error(where + ": unsupported schema '" + m.schema + "'");
     // Counts above kMaxDatasetFrames are corrupt: a run would allocate for every frame.
     for (const auto& [section, count] : {std::pair{"frames", &m.frame_count}, {"calib", &m.calib_pair_count}}) {
       if (!m.json.contains(section)) continue;
       *count = static_cast<size_t>(
-          JsonInteger(m.json.at(section).at("count"), 0, kMaxDatasetFrames, path.string() + ": " + section + ".count"));
+          JsonInteger(m.json.at(section).at("count"), 0, kMaxDatasetFrames, where + ": " + section + ".count"));
     }
     m.complete = m.json.value("complete", false);
     const nlohmann::json& files = m.json.at("files");
-    if (!files.is_object()) throw Error(path.string() + ": 'files' must map relative paths to SHA-256");
+    if (!files.is_object()) throw Error(where + ": 'files' must map relative paths to SHA-256");
     for (const auto& [name, hash] : files.items()) {
       m.files[name] = hash.get<std::string>();
-      if (!IsSha256Hex(m.files[name])) throw Error(path.string() + ": files['" + name + "'] is not a SHA-256");
+      if (!IsSha256Hex(m.files[name])) throw Error(where + ": files['" + name + "'] is not a SHA-256");
     }
-    if (m.complete && m.files.empty()) throw Error(path.string() + ": complete, but 'files' lists nothing");
+    if (m.complete && m.files.empty()) throw Error(where + ": complete, but 'files' lists nothing");
     m.frame_settings_sha256 = RenderSettingsSha256(m.json, "frame");
     m.calib_settings_sha256 = RenderSettingsSha256(m.json, "calib");
   } catch (const nlohmann::json::exception& e) {
-    throw Error(path.string() + ": malformed manifest: " + e.what());
+    throw Error(where + ": malformed manifest: " + e.what());
   }
   return m;
 }

@@ -11,17 +11,23 @@
 namespace aar {
 
 std::vector<FlightSample> ReadFlightPath(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path.string() + ": cannot open flight path");
+  std::ifstream file(path);
+  if (!file) throw Error(path.string() + ": cannot open flight path");
+  std::ostringstream text;
+  text << file.rdbuf();
+  return ParseFlightPath(text.str(), path.string());
+}
+
+std::vector<FlightSample> ParseFlightPath(const std::string& text, const std::string& name) {
+  std::istringstream in(text);
   std::string line;
-  if (!std::getline(in, line))
-    throw Error(path.string() + ":1: empty file, expected header '" + kFlightPathHeader + "'");
+  if (!std::getline(in, line)) throw Error(name + ":1: empty file, expected header '" + kFlightPathHeader + "'");
   // A UTF-8 byte-order mark (spreadsheet exports) is not part of the header.
   if (line.starts_with("\xEF\xBB\xBF")) line.erase(0, 3);
   const bool with_boom = TrimCr(line) == kFlightPathBoomHeader;
   if (TrimCr(line) != kFlightPathHeader && !with_boom) {
-    throw Error(path.string() + ":1: wrong header '" + PrintableText(TrimCr(line)) + "', expected '" +
-                kFlightPathHeader + "' or, with the boom, '" + kFlightPathBoomHeader + "'");
+    throw Error(name + ":1: wrong header '" + PrintableText(TrimCr(line)) + "', expected '" + kFlightPathHeader +
+                "' or, with the boom, '" + kFlightPathBoomHeader + "'");
   }
   const size_t columns = with_boom ? 10 : 7;
   std::vector<FlightSample> samples;
@@ -31,7 +37,7 @@ std::vector<FlightSample> ReadFlightPath(const std::filesystem::path& path) {
     line = TrimCr(line);
     if (line.empty()) continue;
     const std::vector<std::string> fields = SplitCsvLine(line);
-    const std::string where = path.string() + ":" + std::to_string(line_number);
+    const std::string where = name + ":" + std::to_string(line_number);
     if (fields.size() != columns) {
       throw Error(where + ": expected " + std::to_string(columns) + " fields, found " + std::to_string(fields.size()));
     }
@@ -52,7 +58,7 @@ std::vector<FlightSample> ReadFlightPath(const std::filesystem::path& path) {
     }
     samples.push_back(s);
   }
-  if (samples.empty()) throw Error(path.string() + ": flight path has no samples");
+  if (samples.empty()) throw Error(name + ": flight path has no samples");
   return samples;
 }
 

@@ -10,7 +10,10 @@
 namespace aar {
 
 nlohmann::json ReadJsonFile(const std::filesystem::path& path) {
-  const std::string text = ReadFileBytes(path);
+  return ParseJsonText(ReadFileBytes(path), path.string());
+}
+
+nlohmann::json ParseJsonText(const std::string& text, const std::string& where) {
   // JSON leaves a repeated key's meaning open (the parser keeps the last); refused here.
   std::vector<std::vector<std::string>> keys;  // per open object: its keys so far
   const nlohmann::json::parser_callback_t no_repeated_keys = [&](int, nlohmann::json::parse_event_t event,
@@ -22,7 +25,7 @@ nlohmann::json ReadJsonFile(const std::filesystem::path& path) {
     } else if (event == nlohmann::json::parse_event_t::key && !keys.empty()) {
       const std::string key = parsed.get<std::string>();
       if (std::find(keys.back().begin(), keys.back().end(), key) != keys.back().end()) {
-        throw Error(path.string() + ": key \"" + key + "\" appears twice in one object");
+        throw Error(where + ": key \"" + key + "\" appears twice in one object");
       }
       keys.back().push_back(key);
     }
@@ -31,7 +34,7 @@ nlohmann::json ReadJsonFile(const std::filesystem::path& path) {
   try {
     return nlohmann::json::parse(text, no_repeated_keys);
   } catch (const nlohmann::json::exception& e) {
-    throw Error(path.string() + ": not valid JSON: " + e.what());
+    throw Error(where + ": not valid JSON: " + e.what());
   }
 }
 

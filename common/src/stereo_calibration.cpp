@@ -83,9 +83,17 @@ StereoCalibration ReadCalibration(const std::filesystem::path& path) {
     throw Error(where + ": larger than a calibration file can be (" + std::to_string(kMaxCalibrationYamlBytes) +
                 " bytes)");
   }
+  return ParseCalibration(ReadFileBytes(path), where);
+}
+
+StereoCalibration ParseCalibration(const std::string& text, const std::string& where) {
+  if (text.size() > kMaxCalibrationYamlBytes) {
+    throw Error(where + ": larger than a calibration file can be (" + std::to_string(kMaxCalibrationYamlBytes) +
+                " bytes)");
+  }
   std::map<std::string, cv::Mat> nodes;
   try {
-    nodes = ParseOpenCvYaml(ReadFileBytes(path), where);
+    nodes = ParseOpenCvYaml(text, where);
   } catch (const Error& e) {
     throw Error(std::string(e.what()) + " (cannot parse calibration file)");
   }

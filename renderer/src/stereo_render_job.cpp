@@ -15,19 +15,16 @@
 #include "aar/renderer/calib_poses.h"
 #include "aar/renderer/dataset_writer.h"
 #include "aar/renderer/exposure.h"
-#include "aar/renderer/lens_distortion.h"
 #include "aar/renderer/msaa.h"
 #include "aar/renderer/pair_writer.h"
 #include "aar/renderer/projection.h"
-#include "aar/renderer/scene_renderer.h"
-#include "aar/renderer/sensor_model.h"
+#include "aar/renderer/render_session.h"
 #include "aar/stereo_calibration.h"
 #include "aar/text.h"
 
 namespace aar {
 namespace {
 
-constexpr float kReceiverId = 1.0f;
 constexpr float kTankerId = 2.0f;
 constexpr float kBoardId = 3.0f;
 constexpr float kBoomId = static_cast<float>(kBoomMaskId);
@@ -45,173 +42,9 @@ void CheckDatasetFolderWritable(const std::filesystem::path& dir) {
   if (::access(probe.c_str(), W_OK) != 0) throw Error(dir.string() + ": output folder is not writable");
 }
 
-nlohmann::json DeviceJson(const DeviceInfo& d) {
-  return {{"name", d.name},
-          {"driver_name", d.driver_name},
-          {"driver_info", d.driver_info},
-          {"api_version", d.api_version},
-          {"vendor_id", d.vendor_id},
-          {"device_id", d.device_id},
-          {"type", d.device_type},
-          {"standard_sample_locations", d.standard_sample_locations}};
-}
-
-nlohmann::json MsaaJson(const MsaaPlan& plan) {
-  nlohmann::json offsets = nlohmann::json::array();
-  for (const Vec2& o : plan.offsets_px) offsets.push_back({o.x, o.y});
-  nlohmann::json pattern = nlohmann::json::array();
-  for (const Vec2& s : CompositeSamplePattern(plan)) pattern.push_back({s.x, s.y});
-  return {{"level", plan.level},
-          {"method", plan.method},
-          {"native_samples", plan.native_samples},
-          {"passes", plan.passes},
-          {"pass_offsets_px", offsets},
-          {"sample_positions_px", pattern},
-          {"averaging", "hardware resolve per pass, then mean of passes, in linear float colour"}};
-}
-
-struct Session {
-  StereoRig rig;
-  std::unique_ptr<VulkanContext> context;
-  std::unique_ptr<SceneRenderer> renderer;
-  MsaaPlan plan;
-  // With lens distortion (docs/rendering.md): both cameras are rendered as
-  // pinhole cameras on one grown image and resampled; empty for a pinhole rig.
-  std::optional<LensResampler> left_lens, right_lens;
-  // The rig's sensor, its fixed patterns drawn once for the whole run; null without one.
-  std::shared_ptr<const SensorModel> sensor;
-
-  const Camera& RigCamera(const std::string& side) const { return side == "left" ? rig.left : rig.right; }
-  const std::optional<LensResampler>& Lens(const std::string& side) const {
-    return side == "left" ? left_lens : right_lens;
-  }
-  /// The camera the scene is rendered with: the rig's, or its pinhole stand-in.
-  Camera RenderCamera(const std::string& side) const {
-    Camera camera = RigCamera(side);
-    if (Lens(side)) camera.intrinsics = Lens(side)->pinhole();
-    return camera;
-  }
-};
-
-// Both cameras' pinhole stand-ins share one image size: the union of the margins they need.
-void OpenLenses(Session& s) {
-  if (!HasDistortion(s.rig)) return;
-  PixelMargin margin;
-  for (const char* side : {"left", "right"}) {
-    const PixelMargin m =
-        LensResampler::RequiredMargin(s.RigCamera(side).intrinsics, std::string("rig camera ") + side);
-    margin = {std::max(margin.left, m.left), std::max(margin.top, m.top), std::max(margin.right, m.right),
-              std::max(margin.bottom, m.bottom)};
-  }
-  s.left_lens.emplace(s.rig.left.intrinsics, margin, "rig camera left");
-  s.right_lens.emplace(s.rig.right.intrinsics, margin, "rig camera right");
-}
-
-nlohmann::json LensJson(const Session& s) {
-  const auto coefficients = [](const Intrinsics& k) {
-    const std::array<double, 5> d = k.distortion.OpenCvOrder();
-    return nlohmann::json(std::vector<double>(d.begin(), d.end()));
-  };
-  const Intrinsics& pinhole = s.left_lens->pinhole();
-  return {{"model", "brown-conrady: OpenCV k1, k2, p1, p2, k3"},
-          {"left", coefficients(s.rig.left.intrinsics)},
-          {"right", coefficients(s.rig.right.intrinsics)},
-          {"pinhole_render",
-           {{"width", pinhole.width_px},
-            {"height", pinhole.height_px},
-            {"margin_left_top_px",
-             {pinhole.cx_px - s.rig.left.intrinsics.cx_px, pinhole.cy_px - s.rig.left.intrinsics.cy_px}}}},
-          {"color_resampling",
-           "inverse map (Newton), separable Lanczos-3 in linear float colour, footprint scaled by the inverse map's "
-           "Jacobian (at least one pinhole pixel), negative lobes clamped at 0"},
-          {"truth_resampling", "nearest pinhole sample (depth, object ids, silhouette never blended)"}};
-}
-
-nlohmann::json SensorJson(const SensorParams& sensor) {
-  nlohmann::json j = SensorToJson(sensor);
-  j["gain_dn_per_e"] = sensor.GainDnPerElectron();
-  j["model"] =
-      "EMVA 1288 photon transfer per pixel and channel (per pixel under the mosaic): electrons = radiance * "
-      "exposure_e * (1 + prnu * n_pixel), shot noise as its Gaussian approximation N(mean, mean), clipped at "
-      "full_well_e, plus dsnu_e * n_pixel and read_noise_e * n; DN = round(K * electrons + black_level_dn) in "
-      "[0, 2^adc_bits - 1]; written as (DN - black_level_dn) / (K * exposure_e)";
-  j["optics"] = "Gaussian PSF, sigma blur_sigma_px, cut at 3 sigma, in linear light before the noise";
-  j["demosaicing"] = sensor.bayer == BayerPattern::kNone ? "none" : "bilinear";
-  j["noise"] =
-      "counter-based: splitmix64 of (seed, stream, frames 0 / calib 1, index, camera 0 left / 1 right, sample), "
-      "Box-Muller; the fixed pattern of (seed, camera, sample) alone";
-  return j;
-}
-
-Session OpenSession(const RenderJobOptions& options, const StereoRig& rig, const BackgroundOptions& background) {
-  Session s;
-  s.rig = rig;
-  if (rig.sensor) s.sensor = std::make_shared<const SensorModel>(*rig.sensor);
-  VulkanContextOptions vk;
-  vk.device_filter = options.device;
-  s.context = std::make_unique<VulkanContext>(vk);
-  s.plan = PlanMsaa(options.msaa, s.context->info().color_sample_counts);
-  SceneRendererOptions render_options;
-  render_options.max_anisotropy = options.anisotropy;
-  render_options.background = background;
-  OpenLenses(s);
-  const Intrinsics& size = s.RenderCamera("left").intrinsics;
-  s.renderer = std::make_unique<SceneRenderer>(*s.context, size.width_px, size.height_px, render_options);
-  return s;
-}
-
-// Depth truth of one camera: depth and object ids from a single-sample pass
-// of the whole scene, and the receiver's silhouette from a pass of the
-// receiver alone (255 where it covers the pixel, whatever is in front).
-ViewTruth RenderDepthTruth(Session& session, const std::vector<RenderItem>& items, const std::string& side,
-                           RenderStageTimes& times) {
-  const Camera camera = session.RenderCamera(side);
-  auto start = std::chrono::steady_clock::now();
-  ViewTruth view;
-  view.side = side;
-  view.scene = session.renderer->RenderGroundTruth(camera, session.rig.near_m, items);
-  std::vector<RenderItem> receiver_only;
-  for (const RenderItem& item : items) {
-    if (item.object_id == kReceiverId) receiver_only.push_back(item);
-  }
-  view.alone = session.renderer->RenderGroundTruth(camera, session.rig.near_m, receiver_only);
-  times.render_ms += MillisecondsSince(start);
-  if (const std::optional<LensResampler>& lens = session.Lens(side)) {
-    start = std::chrono::steady_clock::now();
-    view.scene = lens->ResampleTruth(view.scene);
-    view.alone = lens->ResampleTruth(view.alone);
-    times.readback_ms += MillisecondsSince(start);
-  }
-  return view;
-}
-
-// Renders one stereo pair (and the truth asked for); the PairWriter encodes and writes it.
-// The colour is exposed over `exposure` (the scene at each instant; one
-// instant: no motion), the truth is of `items` (the sample's own time).
-RenderedPair RenderPair(Session& session, const std::vector<std::vector<RenderItem>>& exposure,
-                        const std::vector<RenderItem>& items, const std::string& dir, FrameSidecar sidecar,
-                        const std::vector<std::string>& depth_sides, RenderStageTimes& times) {
-  RenderedPair pair;
-  pair.dir = dir;
-  pair.sidecar = std::move(sidecar);
-  pair.sensor = session.sensor;
-  for (size_t view = 0; view < pair.color.size(); ++view) {
-    const std::string side = view == 0 ? "left" : "right";
-    ViewTimings timings;
-    pair.color[view] = session.renderer->RenderExposure(session.RenderCamera(side), session.rig.near_m, exposure,
-                                                        session.plan, &timings);
-    times.render_ms += timings.render_ms;
-    times.readback_ms += timings.readback_ms;
-    // Resampled through the lens on the writer's threads, beside the next pair's rendering.
-    if (const std::optional<LensResampler>& lens = session.Lens(side)) pair.lens[view] = &*lens;
-  }
-  for (const std::string& side : depth_sides) pair.truth.push_back(RenderDepthTruth(session, items, side, times));
-  return pair;
-}
-
 // Shared loop: renders the selected pairs not yet complete, then finalizes.
 template <typename MakePair>
-RenderJobResult RunPairs(const RenderJobOptions& options, Session& session, size_t count, const std::string& kind,
+RenderJobResult RunPairs(const RenderJobOptions& options, RenderSession& session, size_t count, const std::string& kind,
                          const std::string& settings, const std::string& label, MakePair make_pair) {
   RenderJobResult result;
   result.msaa_method = session.plan.method;
@@ -270,21 +103,6 @@ nlohmann::json BoomJson(bool posed_by_path) {
           {"tanker_from_boom_tube", "tanker_from_boom * Translation(-extension_m, 0, 0)"}};
 }
 
-// The manifest keys both jobs share; computes hashes, writes nothing.
-nlohmann::json CommonHeader(const Session& session, const std::string& rig_hash) {
-  nlohmann::json header = {{"schema", kDatasetSchema},
-                           {"renderer", RendererIdentity()},
-                           {"device", DeviceJson(session.context->info())},
-                           {"image",
-                            {{"width", session.rig.left.intrinsics.width_px},
-                             {"height", session.rig.left.intrinsics.height_px},
-                             {"encoding", "PNG, 8-bit sRGB, RGB"}}},
-                           {"inputs", {{"rig", {{"file", kRigName}, {"sha256", rig_hash}}}}}};
-  if (session.left_lens) header["image"]["lens"] = LensJson(session);                   // absent for a pinhole rig
-  if (session.rig.sensor) header["image"]["sensor"] = SensorJson(*session.rig.sensor);  // absent: the ideal sensor
-  return header;
-}
-
 // The models of a flight-path job: the receiver, the tanker, the boom and
 // its tube (with_boom) and the propeller (with_propellers).
 struct FlightPathModels {
@@ -315,10 +133,10 @@ struct FlightPathModelIndices {
 };
 
 // Adds the models to the session's renderer: receiver, tanker, boom, boom tube, propeller.
-FlightPathModelIndices AddFlightPathModels(Session& session, const FlightPathModels& models) {
+FlightPathModelIndices AddFlightPathModels(RenderSession& session, const FlightPathModels& models) {
   FlightPathModelIndices indices;
   indices.receiver.airframe = session.renderer->AddModel(models.receiver);
-  indices.receiver.object_id = kReceiverId;
+  indices.receiver.object_id = kReceiverObjectId;
   indices.tanker = session.renderer->AddModel(models.tanker);
   indices.boom = models.with_boom ? session.renderer->AddModel(*models.boom) : -1;
   indices.boom_tube = models.with_boom ? session.renderer->AddModel(*models.boom_tube) : -1;
@@ -355,7 +173,7 @@ nlohmann::json FlightPathFramesJson(const RenderJobOptions& options, const MsaaP
 }
 
 // The manifest header of a flight-path job; hashes its inputs, writes nothing.
-FlightPathManifest FlightPathManifestHeader(const RenderJobOptions& options, const Session& session,
+FlightPathManifest FlightPathManifestHeader(const RenderJobOptions& options, const RenderSession& session,
                                             const FlightPathModels& models, const std::vector<FlightSample>& path) {
   FlightPathManifest manifest;
   FlightPathInputHashes& hashes = manifest.hashes;
@@ -363,7 +181,7 @@ FlightPathManifest FlightPathManifestHeader(const RenderJobOptions& options, con
   hashes.receiver = Sha256File(options.receiver_model);
   hashes.path = Sha256File(options.flight_path);
   nlohmann::json& header = manifest.header;
-  header = CommonHeader(session, hashes.rig);
+  header = SessionManifestHeader(session, hashes.rig);
   header["inputs"]["receiver_model"] = {{"file", kReceiverModelName}, {"sha256", hashes.receiver}};
   header["inputs"]["tanker_model"] = {{"source", options.tanker_model.filename().string()},
                                       {"sha256", Sha256File(options.tanker_model)}};
@@ -475,7 +293,7 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   if (options.shutter_ms > 0.0) CheckTimesIncrease(path, options.flight_path.string());
   const FlightPathModels models = LoadFlightPathModels(options, path);
   CheckDatasetFolderWritable(options.output);
-  Session session = OpenSession(options, rig, options.background);
+  RenderSession session = OpenRenderSession(options, rig, options.background);
   const FlightPathModelIndices indices = AddFlightPathModels(session, models);
   const std::vector<double> exposure_offsets = ExposureOffsets(options.shutter_ms, options.time_samples);
   const std::vector<Eigen::Vector3d> receiver_points = models.receiver.AllPositions();
@@ -505,7 +323,7 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   const std::vector<Pose> poses = CalibrationBoardPoses(rig, pose_options);
   options.selection.CheckWithin(poses.size(), "calibration board poses");
   CheckDatasetFolderWritable(options.output);
-  Session session = OpenSession(options, rig, BackgroundOptions{});
+  RenderSession session = OpenRenderSession(options, rig, BackgroundOptions{});
   const int board_index = session.renderer->AddModel(board);
   const std::vector<Eigen::Vector3d> board_points = board.AllPositions();
   const BoardSpec spec;
@@ -513,7 +331,7 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   EnsureWritableDirectory(options.output);
   const FileLock writing = LockDatasetForWriting(options.output);
   const std::string rig_hash = Sha256File(options.rig);
-  nlohmann::json header = CommonHeader(session, rig_hash);
+  nlohmann::json header = SessionManifestHeader(session, rig_hash);
   header["inputs"]["board_model"] = {{"source", options.board_model.filename().string()},
                                      {"sha256", Sha256File(options.board_model)}};
   header["calib"] = {

@@ -391,7 +391,7 @@ TEST(Calibration, FromDatasetMatchesInMemoryBitwise) {
   const test::TempDir temp("calibration_dataset");
   const std::filesystem::path& dir = temp.path();
   WriteDataset(dir, Synthetic().pairs.size());
-  const CalibrationResult from_disk = CalibrateFromDataset(dir, CalibrationOptions{});
+  const CalibrationResult from_disk = CalibrateFromDataset(OpenedDataset::Open(dir), CalibrationOptions{});
   const CalibrationResult& in_memory = SyntheticCalibration();
   ASSERT_TRUE(from_disk.versus_ideal.has_value());
   EXPECT_EQ(from_disk.used_pairs, in_memory.used_pairs);
@@ -411,14 +411,14 @@ TEST(Calibration, MissingOrCorruptImageIsAnErrorNamingTheFile) {
   WriteDataset(dir, 5);
   std::filesystem::remove(dir / "calib" / "000003_right.png");
   try {
-    CalibrateFromDataset(dir, CalibrationOptions{});
+    CalibrateFromDataset(OpenedDataset::Open(dir), CalibrationOptions{});
     FAIL() << "expected aar::Error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("calib/000003_right.png: missing"), std::string::npos) << e.what();
   }
   std::ofstream(dir / "calib" / "000003_right.png") << "not a png";
   try {
-    CalibrateFromDataset(dir, CalibrationOptions{});
+    CalibrateFromDataset(OpenedDataset::Open(dir), CalibrationOptions{});
     FAIL() << "expected aar::Error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("calib/000003_right.png: SHA-256 differs from the sidecar's"),
@@ -427,14 +427,14 @@ TEST(Calibration, MissingOrCorruptImageIsAnErrorNamingTheFile) {
   }
   WriteSidecar(dir, 3);  // a sidecar that vouches for the broken file: the decoder refuses it
   try {
-    CalibrateFromDataset(dir, CalibrationOptions{});
+    CalibrateFromDataset(OpenedDataset::Open(dir), CalibrationOptions{});
     FAIL() << "expected aar::Error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("calib/000003_right.png: not a whole PNG file (no PNG signature)"),
               std::string::npos)
         << e.what();
   }
-  EXPECT_THROW(CalibrateFromDataset(dir / "nope", CalibrationOptions{}), Error);
+  EXPECT_THROW(CalibrateFromDataset(OpenedDataset::Open(dir / "nope"), CalibrationOptions{}), Error);
 }
 
 TEST(Calibration, RejectsInvalidOptions) {

@@ -236,14 +236,15 @@ TEST(Pipeline, TrackingFallsBackToTheCentroidWhenTheLastEstimateIsWrong) {
   options.track_region = true;
   const FrameAnalyzer analyzer(ReadCalibration(dataset / "calibration_ideal.yaml"), rig.left.tanker_from_camera, shell,
                                options);
-  const FrameResult good = analyzer.Analyze(dataset, 1, {}, TrackHistory{});
+  const OpenedDataset opened = OpenedDataset::Open(dataset);
+  const FrameResult good = analyzer.Analyze(opened, 1, TrackHistory{});
   ASSERT_EQ(good.status, "ok");
   Pose wrong = good.truth;
   wrong.translation_m += Eigen::Vector3d(0.0, 8.0, 3.0);
   wrong.yaw_deg += 14.0;
   TrackHistory history;
   history.last = std::make_pair(good.time_s, wrong);
-  const FrameResult tracked = analyzer.Analyze(dataset, 2, {}, history);
+  const FrameResult tracked = analyzer.Analyze(opened, 2, history);
   ASSERT_EQ(tracked.status, "ok");
   // The frame measured from the centroid: the end-to-end test's bounds.
   const SixDof bound{{0.15, 0.04, 0.03, 0.5, 0.4, 0.5}};
@@ -327,6 +328,29 @@ TEST(Pipeline, AnalysisIsByteIdenticalAcrossRuns) {
   for (const char* name : {kRunJsonName, kCalibrationYamlName, kCalibrationReportName, "reference_shelled.ply"}) {
     EXPECT_EQ(ReadFileBytes(dir / "a" / name), ReadFileBytes(dir / "b" / name)) << name;
   }
+}
+
+// A run is reproduced from its own record: --options-from takes every
+// analysis option from run.json (here far from the defaults) and gives the
+// same frames.csv and run.json; analysis flags beside it are refused.
+TEST(Pipeline, RunIsReproducedFromItsRunJson) {
+  ASSERT_DATASETS();
+  TempDir dir("pipeline-options-from");
+  const fs::path dataset = SharedDatasets().near_contact;
+  const std::string calibration = "--calibration " + Quote(dataset / kIdealCalibrationName);
+  ASSERT_TRUE(AnalyzeRun(dataset, dir / "a",
+                         calibration + " --track --seed previous --halo-radius 6 --subpixel-interpolation bspline "
+                                       "--window-bias true --gate-sigmas 2.5 --target-points 2500 --filter-window 0.2 "
+                                       "--shell-tolerance 0.02 --uniqueness-ratio 10"));
+  ASSERT_TRUE(AnalyzeRun(dataset, dir / "b", calibration + " --options-from " + Quote(dir / "a")));
+  EXPECT_EQ(test::FramesCsvWithoutTiming(dir / "a" / kFramesCsvName),
+            test::FramesCsvWithoutTiming(dir / "b" / kFramesCsvName));
+  EXPECT_EQ(ReadFileBytes(dir / "a" / kRunJsonName), ReadFileBytes(dir / "b" / kRunJsonName));
+  const test::CommandResult mixed = RunAnalyze("run " + Quote(dataset) + " --no-progress --out " + Quote(dir / "c") +
+                                               " --options-from " + Quote(dir / "a") + " --seed centroid");
+  EXPECT_NE(mixed.exit_code, 0);
+  EXPECT_NE(mixed.output.find("--seed: not with --options-from"), std::string::npos) << mixed.output;
+  EXPECT_FALSE(fs::exists(dir / "c"));
 }
 
 TEST(Pipeline, ShardsMergeToTheSingleRunSummary) {

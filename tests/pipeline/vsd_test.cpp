@@ -30,12 +30,12 @@ using test::SharedDatasets;
 TEST(PipelineVsd, TheTruthAgreesWithTheRenderersDepth) {
   ASSERT_DATASETS();
   const fs::path dataset = SharedDatasets().near_contact;
-  const Manifest manifest = ReadManifest(dataset);
+  const OpenedDataset opened = OpenedDataset::Open(dataset);
   const TriangleMesh mesh = LoadReceiverMesh(dataset / kReceiverModelName);
   const double diameter_m = 16.64;
   size_t frames = 0;
   for (size_t index = 0; index < test::kNearContactFrames; ++index) {
-    const FrameSidecar sidecar = ReadListedSidecar(dataset, manifest, "frame", index);
+    const FrameSidecar sidecar = opened.Sidecar("frame", index);
     ASSERT_TRUE(sidecar.files.count("left_depth")) << "frame " << index << ": no depth truth";
     const DepthTruth truth =
         ReadDepthTruth(dataset / sidecar.files.at("left_depth").path, dataset / sidecar.files.at("left_mask").path);

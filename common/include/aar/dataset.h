@@ -96,6 +96,8 @@ Pose PoseFromJson(const nlohmann::json& j, const std::string& where);
 nlohmann::json SidecarToJson(const FrameSidecar& sidecar);
 /// Reads a sidecar; throws aar::Error naming the file and the reason.
 FrameSidecar ReadSidecar(const std::filesystem::path& path);
+/// The same for a sidecar's JSON, read from `where`.
+FrameSidecar ParseSidecar(const nlohmann::json& j, const std::string& where);
 /// True when the sidecar exists, parses, records `settings_sha256` (or no
 /// settings hash, in datasets made before it was recorded), and every file it
 /// lists exists with the recorded SHA-256 (the resume check).
@@ -128,18 +130,10 @@ bool IsSha256Hex(const std::string& text);
 
 /// Reads DATASET/manifest.json; throws aar::Error when missing or malformed
 /// (counts above kMaxDatasetFrames, `files` not an object of SHA-256 values,
-/// or `complete` with an empty `files`).
+/// or `complete` with an empty `files`). A dataset is read for analysis
+/// through OpenedDataset (opened_dataset.h).
 Manifest ReadManifest(const std::filesystem::path& dataset);
-
-/// Reads the file `ref` of a sidecar, checking its SHA-256 against the
-/// sidecar's and, where manifest.json lists it, the manifest's; throws
-/// aar::Error naming the file when it is missing, unreadable or changed.
-std::string ReadListedFile(const std::filesystem::path& dataset, const Manifest& manifest, const FileRef& ref);
-
-/// Reads sidecar `index` of `kind`, checking its SHA-256 against
-/// manifest.json's (where listed) and that it was rendered with the settings
-/// the manifest records; throws aar::Error naming the sidecar otherwise.
-FrameSidecar ReadListedSidecar(const std::filesystem::path& dataset, const Manifest& manifest, const std::string& kind,
-                               size_t index);
+/// The same checks on a manifest's JSON, read from `where`.
+Manifest ParseManifest(nlohmann::json json, const std::string& where);
 
 }  // namespace aar

@@ -34,6 +34,8 @@ struct FlightSample {
 /// kFlightPathBoomHeader), wrong column count, a field that is not a finite
 /// number, a boom value outside BoomPose's ranges, or an empty path.
 std::vector<FlightSample> ReadFlightPath(const std::filesystem::path& path);
+/// The same for the text of a flight-path file called `name` in the messages.
+std::vector<FlightSample> ParseFlightPath(const std::string& text, const std::string& name);
 
 /// Throws aar::Error naming `where` and the first pair of samples whose
 /// times do not increase: motion over an exposure (TankerFromReceiverAt)

@@ -44,5 +44,7 @@ void CheckCalibration(const StereoCalibration& calibration, const std::string& w
 /// never OpenCV's parser); throws aar::Error naming the file, the line when
 /// known, and the missing or malformed node.
 StereoCalibration ReadCalibration(const std::filesystem::path& path);
+/// The same for a calibration file's text, read from `where`.
+StereoCalibration ParseCalibration(const std::string& text, const std::string& where);
 
 }  // namespace aar

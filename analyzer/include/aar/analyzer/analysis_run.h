@@ -34,8 +34,8 @@ struct CalibrateOutput {
   nlohmann::json report;  ///< calibration_report.json content (deterministic)
 };
 
-/// Calibrates from DATASET/calib and returns the result plus its JSON report.
-CalibrateOutput CalibrateDataset(const std::filesystem::path& dataset, const CalibrationOptions& options);
+/// Calibrates from the dataset's calib/ pairs and returns the result plus its JSON report.
+CalibrateOutput CalibrateDataset(const OpenedDataset& dataset, const CalibrationOptions& options);
 
 /// Writes calibration.yaml and calibration_report.json into `out`.
 void WriteCalibrationOutputs(const std::filesystem::path& out, const CalibrateOutput& calibration);

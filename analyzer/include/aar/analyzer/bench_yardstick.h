@@ -4,10 +4,10 @@
 // that stage times measured on different machines, or on one machine under
 // different load, compare as ratios.
 
-#include <filesystem>
+#include <cstddef>
 
 #include "aar/analyzer/disparity.h"
-#include "aar/dataset.h"
+#include "aar/opened_dataset.h"
 
 namespace aar {
 
@@ -16,8 +16,7 @@ namespace aar {
 /// pair of frame `index` of `dataset`, on the calling thread (set OpenCV to
 /// one thread for one core). Throws aar::Error naming a frame that cannot be
 /// read.
-double TimeStereoBmYardstick(const std::filesystem::path& dataset, const Manifest& manifest, const Rectifier& rectifier,
-                             size_t index);
+double TimeStereoBmYardstick(const OpenedDataset& dataset, const Rectifier& rectifier, size_t index);
 
 /// The reference yardstick the speed targets are written for [ms].
 constexpr double kReferenceYardstickMs = 12.7;

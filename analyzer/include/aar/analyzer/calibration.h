@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "aar/dataset.h"
+#include "aar/opened_dataset.h"
 #include "aar/stereo_calibration.h"
 
 namespace aar {
@@ -186,14 +187,15 @@ CalibrationResult CalibrateFromDetections(std::vector<PairDetection> pairs, cv::
 CalibrationResult CalibrateFromImages(const std::vector<StereoImagePair>& pairs, const CalibrationOptions& options,
                                       const std::optional<StereoCalibration>& ideal = std::nullopt);
 
-/// Reads DATASET/manifest.json (calib pair count) and every
-/// DATASET/calib/NNNNNN_{left,right}.png, then calibrates (options.distortion
-/// kAuto resolved from DATASET/rig.json). Errors are
-/// compared with DATASET/calibration_ideal.yaml when present (else with the
-/// ideal calibration of DATASET/rig.json when present). Throws aar::Error
-/// naming the file for a missing or undecodable image, and naming the dataset
-/// and the count found when too few pairs show the board.
-CalibrationResult CalibrateFromDataset(const std::filesystem::path& dataset, const CalibrationOptions& options);
+/// Reads every calibration pair of `dataset` (its sidecar's board, when
+/// recorded, replaces options.board), then calibrates (options.distortion
+/// kAuto resolved from the dataset's rig.json). Errors are compared with
+/// the dataset's calibration_ideal.yaml when present (else
+/// with the ideal calibration of its rig.json when present). Throws
+/// aar::Error naming the file for a missing, changed or undecodable image or
+/// sidecar, and naming the dataset and the count found when too few pairs
+/// show the board.
+CalibrationResult CalibrateFromDataset(const OpenedDataset& dataset, const CalibrationOptions& options);
 
 /// Element-wise percent error 100 |q - q_ideal| / |q_ideal| (thesis Table 7);
 /// 0 where q_ideal is exactly 0. Both 4x4; returns 4x4 CV_64F.

@@ -13,6 +13,7 @@
 #include "aar/analyzer/frame_results.h"
 #include "aar/dataset.h"
 #include "aar/frame_selection.h"
+#include "aar/opened_dataset.h"
 #include "aar/stereo_calibration.h"
 
 namespace aar {
@@ -31,17 +32,17 @@ struct ExportResult {
   std::vector<std::string> notes;  ///< what was left out and why (e.g. no right-camera depth)
 };
 
-/// The dataset as the exporters read it: the manifest and the selected
-/// frames' sidecars, each checked against the manifest's SHA-256.
+/// The dataset as the exporters read it: opened, and the selected frames'
+/// sidecars, each checked against the manifest's SHA-256.
 struct ExportSource {
-  std::filesystem::path dataset;
-  Manifest manifest;
+  OpenedDataset dataset;
   std::vector<FrameSidecar> frames;  ///< ascending index
 };
 
-/// Reads the manifest and the sidecars of the selected frames; throws
-/// aar::Error when the dataset has no frames, the selection is empty, or a
-/// sidecar is missing, malformed or differs from the manifest's hash.
+/// Opens the dataset and reads the sidecars of the selected frames; throws
+/// aar::Error as OpenedDataset::Open does, when the dataset has no frames,
+/// the selection is empty, or a sidecar is missing, malformed or differs
+/// from the manifest's hash.
 ExportSource ReadExportSource(const ExportOptions& options);
 
 /// A file of a frame, read and checked against the sidecar's (and the
@@ -51,7 +52,7 @@ std::string ReadVerifiedFile(const ExportSource& source, const FileRef& ref);
 /// The frames of ExportOptions::run (none without one), ascending; throws
 /// aar::Error naming run.json when the run analyzed another dataset
 /// (dataset_manifest_sha256), and as ReadFrameResults on a bad frames.csv.
-std::vector<FrameResult> ReadRunEstimates(const ExportOptions& options);
+std::vector<FrameResult> ReadRunEstimates(const ExportOptions& options, const ExportSource& source);
 
 /// The dataset's calibration_ideal.yaml, checked against the manifest's
 /// SHA-256; throws aar::Error naming it when missing or changed.

@@ -23,7 +23,7 @@
 #include "aar/analyzer/reprojection.h"
 #include "aar/analyzer/stereo_truth.h"
 #include "aar/analyzer/window_bias.h"
-#include "aar/dataset.h"
+#include "aar/opened_dataset.h"
 #include "aar/stereo_calibration.h"
 
 namespace aar {
@@ -201,16 +201,15 @@ class FrameAnalyzer {
   void SetReceiverMesh(TriangleMesh receiver);
 
   /// Analyzes frame `index` of `dataset`. Never throws for a bad frame: a
-  /// missing or corrupt image, a malformed sidecar, a hash mismatch against
-  /// `manifest`'s files, a sidecar rendered with other settings than the
-  /// manifest records (dataset.h, RenderSettings), too few sensed points or a failed registration give a result whose
-  /// `status` says why. `history` holds the last good estimates (for kPreviousFrame).
+  /// missing or corrupt image, a malformed sidecar, a hash mismatch, a
+  /// sidecar rendered with other settings than the manifest records
+  /// (OpenedDataset::Sidecar), too few sensed points or a failed
+  /// registration give a result whose `status` says why. `history` holds the last good estimates (for kPreviousFrame).
   /// With `dump`, also returns the images and clouds of the frame (frame_dump.h);
   /// with `depth_truth`, the left camera's depth truth where the analysis read
   /// it (options.compare_with_truth on a dataset with depth), else nullopt.
-  FrameResult Analyze(const std::filesystem::path& dataset, size_t index, const Manifest& manifest,
-                      const TrackHistory& history, FrameDump* dump = nullptr,
-                      std::optional<DepthTruth>* depth_truth = nullptr) const;
+  FrameResult Analyze(const OpenedDataset& dataset, size_t index, const TrackHistory& history,
+                      FrameDump* dump = nullptr, std::optional<DepthTruth>* depth_truth = nullptr) const;
 
  private:
   StereoCalibration calibration_;

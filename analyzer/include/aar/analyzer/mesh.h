@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace aar {
@@ -23,6 +24,9 @@ struct TriangleMesh {
 /// Throws aar::Error naming the file when it is missing, cannot be parsed,
 /// has malformed accessors, or holds no triangle.
 TriangleMesh LoadReceiverMesh(const std::filesystem::path& path);
+/// The same for a .glb or .gltf file's bytes, read from `where`; a .gltf's
+/// external buffers are looked up in `base_dir`.
+TriangleMesh MeshFromGltf(const std::string& bytes, const std::string& where, const std::string& base_dir);
 
 /// Area of one triangle [m^2].
 double TriangleArea(const TriangleMesh& mesh, size_t triangle);

@@ -1,7 +1,7 @@
 #pragma once
 // run.json, the record of an `aar-analyze run` (docs/analysis.md, "Output
-// folder of run"): the options the run used, the frames it selected, and
-// what the BOP scores and results file need. RunAnalysis writes it; merge
+// folder of run"): the frames it selected, and what the BOP scores and
+// results file need (its options: options_record.h). RunAnalysis writes it; merge
 // reads each shard's back and checks they agree.
 
 #include <Eigen/Geometry>
@@ -9,15 +9,11 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "aar/analyzer/analysis_run.h"
 #include "aar/analyzer/bop_metrics.h"
 #include "aar/frame_selection.h"
 #include "aar/rig.h"
 
 namespace aar {
-
-/// run.json's "options": every setting the frames' analysis used.
-nlohmann::json OptionsJson(const AnalysisRunOptions& options);
 
 /// run.json's "frames": "begin:end", with " shard K/N" for a shard.
 std::string DescribeSelection(const FrameSelection& selection);

@@ -1,0 +1,73 @@
+#pragma once
+// What a render job opens once and shares between its pairs: the Vulkan
+// device and scene renderer, the MSAA plan, the lens resamplers of a
+// distorted rig (docs/rendering.md) and the rig's sensor model; one stereo
+// pair rendered in it; and its description in the dataset's manifest.
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "aar/dataset.h"
+#include "aar/renderer/background.h"
+#include "aar/renderer/lens_distortion.h"
+#include "aar/renderer/msaa.h"
+#include "aar/renderer/pair_writer.h"
+#include "aar/renderer/scene_renderer.h"
+#include "aar/renderer/sensor_model.h"
+#include "aar/renderer/stereo_render_job.h"
+#include "aar/renderer/vulkan_context.h"
+#include "aar/rig.h"
+
+namespace aar {
+
+/// The receiver's object id in the truth passes (docs/dataset-format.md, "Images").
+inline constexpr float kReceiverObjectId = 1.0f;
+
+struct RenderSession {
+  StereoRig rig;
+  std::unique_ptr<VulkanContext> context;
+  std::unique_ptr<SceneRenderer> renderer;
+  MsaaPlan plan;
+  // With lens distortion (docs/rendering.md): both cameras are rendered as
+  // pinhole cameras on one grown image and resampled; empty for a pinhole rig.
+  std::optional<LensResampler> left_lens, right_lens;
+  // The rig's sensor, its fixed patterns drawn once for the whole run; null without one.
+  std::shared_ptr<const SensorModel> sensor;
+
+  const Camera& RigCamera(const std::string& side) const { return side == "left" ? rig.left : rig.right; }
+  const std::optional<LensResampler>& Lens(const std::string& side) const {
+    return side == "left" ? left_lens : right_lens;
+  }
+  /// The camera the scene is rendered with: the rig's, or its pinhole stand-in.
+  Camera RenderCamera(const std::string& side) const {
+    Camera camera = RigCamera(side);
+    if (Lens(side)) camera.intrinsics = Lens(side)->pinhole();
+    return camera;
+  }
+};
+
+/// Opens the device (options.device), plans MSAA (options.msaa), makes the
+/// lens resamplers and the sensor model of `rig`, and the scene renderer at
+/// the size the scene is rendered with.
+RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig& rig,
+                                const BackgroundOptions& background);
+
+/// Renders one stereo pair (and the truth of `depth_sides`) for the
+/// PairWriter to encode and write. The colour is exposed over `exposure`
+/// (the scene at each instant; one instant: no motion), the truth is of
+/// `items` (the sample's own time).
+RenderedPair RenderPair(RenderSession& session, const std::vector<std::vector<RenderItem>>& exposure,
+                        const std::vector<RenderItem>& items, const std::string& dir, FrameSidecar sidecar,
+                        const std::vector<std::string>& depth_sides, RenderStageTimes& times);
+
+/// The manifest's description of an MSAA plan (frames.msaa, calib.msaa).
+nlohmann::json MsaaJson(const MsaaPlan& plan);
+
+/// The manifest keys both jobs share (schema, renderer, device, image with
+/// its lens and sensor, the rig's input); computes nothing, writes nothing.
+nlohmann::json SessionManifestHeader(const RenderSession& session, const std::string& rig_hash);
+
+}  // namespace aar

@@ -1,0 +1,170 @@
+#include "aar/renderer/render_session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <utility>
+
+#include "aar/dataset.h"
+#include "aar/progress.h"
+#include "aar/renderer/dataset_writer.h"
+#include "aar/text.h"
+
+namespace aar {
+namespace {
+
+nlohmann::json DeviceJson(const DeviceInfo& d) {
+  return {{"name", d.name},
+          {"driver_name", d.driver_name},
+          {"driver_info", d.driver_info},
+          {"api_version", d.api_version},
+          {"vendor_id", d.vendor_id},
+          {"device_id", d.device_id},
+          {"type", d.device_type},
+          {"standard_sample_locations", d.standard_sample_locations}};
+}
+
+// Both cameras' pinhole stand-ins share one image size: the union of the margins they need.
+void OpenLenses(RenderSession& s) {
+  if (!HasDistortion(s.rig)) return;
+  PixelMargin margin;
+  for (const char* side : {"left", "right"}) {
+    const PixelMargin m =
+        LensResampler::RequiredMargin(s.RigCamera(side).intrinsics, std::string("rig camera ") + side);
+    margin = {std::max(margin.left, m.left), std::max(margin.top, m.top), std::max(margin.right, m.right),
+              std::max(margin.bottom, m.bottom)};
+  }
+  s.left_lens.emplace(s.rig.left.intrinsics, margin, "rig camera left");
+  s.right_lens.emplace(s.rig.right.intrinsics, margin, "rig camera right");
+}
+
+nlohmann::json LensJson(const RenderSession& s) {
+  const auto coefficients = [](const Intrinsics& k) {
+    const std::array<double, 5> d = k.distortion.OpenCvOrder();
+    return nlohmann::json(std::vector<double>(d.begin(), d.end()));
+  };
+  const Intrinsics& pinhole = s.left_lens->pinhole();
+  return {{"model", "brown-conrady: OpenCV k1, k2, p1, p2, k3"},
+          {"left", coefficients(s.rig.left.intrinsics)},
+          {"right", coefficients(s.rig.right.intrinsics)},
+          {"pinhole_render",
+           {{"width", pinhole.width_px},
+            {"height", pinhole.height_px},
+            {"margin_left_top_px",
+             {pinhole.cx_px - s.rig.left.intrinsics.cx_px, pinhole.cy_px - s.rig.left.intrinsics.cy_px}}}},
+          {"color_resampling",
+           "inverse map (Newton), separable Lanczos-3 in linear float colour, footprint scaled by the inverse map's "
+           "Jacobian (at least one pinhole pixel), negative lobes clamped at 0"},
+          {"truth_resampling", "nearest pinhole sample (depth, object ids, silhouette never blended)"}};
+}
+
+nlohmann::json SensorJson(const SensorParams& sensor) {
+  nlohmann::json j = SensorToJson(sensor);
+  j["gain_dn_per_e"] = sensor.GainDnPerElectron();
+  j["model"] =
+      "EMVA 1288 photon transfer per pixel and channel (per pixel under the mosaic): electrons = radiance * "
+      "exposure_e * (1 + prnu * n_pixel), shot noise as its Gaussian approximation N(mean, mean), clipped at "
+      "full_well_e, plus dsnu_e * n_pixel and read_noise_e * n; DN = round(K * electrons + black_level_dn) in "
+      "[0, 2^adc_bits - 1]; written as (DN - black_level_dn) / (K * exposure_e)";
+  j["optics"] = "Gaussian PSF, sigma blur_sigma_px, cut at 3 sigma, in linear light before the noise";
+  j["demosaicing"] = sensor.bayer == BayerPattern::kNone ? "none" : "bilinear";
+  j["noise"] =
+      "counter-based: splitmix64 of (seed, stream, frames 0 / calib 1, index, camera 0 left / 1 right, sample), "
+      "Box-Muller; the fixed pattern of (seed, camera, sample) alone";
+  return j;
+}
+
+// Depth truth of one camera: depth and object ids from a single-sample pass
+// of the whole scene, and the receiver's silhouette from a pass of the
+// receiver alone (255 where it covers the pixel, whatever is in front).
+ViewTruth RenderDepthTruth(RenderSession& session, const std::vector<RenderItem>& items, const std::string& side,
+                           RenderStageTimes& times) {
+  const Camera camera = session.RenderCamera(side);
+  auto start = std::chrono::steady_clock::now();
+  ViewTruth view;
+  view.side = side;
+  view.scene = session.renderer->RenderGroundTruth(camera, session.rig.near_m, items);
+  std::vector<RenderItem> receiver_only;
+  for (const RenderItem& item : items) {
+    if (item.object_id == kReceiverObjectId) receiver_only.push_back(item);
+  }
+  view.alone = session.renderer->RenderGroundTruth(camera, session.rig.near_m, receiver_only);
+  times.render_ms += MillisecondsSince(start);
+  if (const std::optional<LensResampler>& lens = session.Lens(side)) {
+    start = std::chrono::steady_clock::now();
+    view.scene = lens->ResampleTruth(view.scene);
+    view.alone = lens->ResampleTruth(view.alone);
+    times.readback_ms += MillisecondsSince(start);
+  }
+  return view;
+}
+
+}  // namespace
+
+RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig& rig,
+                                const BackgroundOptions& background) {
+  RenderSession s;
+  s.rig = rig;
+  if (rig.sensor) s.sensor = std::make_shared<const SensorModel>(*rig.sensor);
+  VulkanContextOptions vk;
+  vk.device_filter = options.device;
+  s.context = std::make_unique<VulkanContext>(vk);
+  s.plan = PlanMsaa(options.msaa, s.context->info().color_sample_counts);
+  SceneRendererOptions render_options;
+  render_options.max_anisotropy = options.anisotropy;
+  render_options.background = background;
+  OpenLenses(s);
+  const Intrinsics& size = s.RenderCamera("left").intrinsics;
+  s.renderer = std::make_unique<SceneRenderer>(*s.context, size.width_px, size.height_px, render_options);
+  return s;
+}
+
+RenderedPair RenderPair(RenderSession& session, const std::vector<std::vector<RenderItem>>& exposure,
+                        const std::vector<RenderItem>& items, const std::string& dir, FrameSidecar sidecar,
+                        const std::vector<std::string>& depth_sides, RenderStageTimes& times) {
+  RenderedPair pair;
+  pair.dir = dir;
+  pair.sidecar = std::move(sidecar);
+  pair.sensor = session.sensor;
+  for (size_t view = 0; view < pair.color.size(); ++view) {
+    const std::string side = view == 0 ? "left" : "right";
+    ViewTimings timings;
+    pair.color[view] = session.renderer->RenderExposure(session.RenderCamera(side), session.rig.near_m, exposure,
+                                                        session.plan, &timings);
+    times.render_ms += timings.render_ms;
+    times.readback_ms += timings.readback_ms;
+    // Resampled through the lens on the writer's threads, beside the next pair's rendering.
+    if (const std::optional<LensResampler>& lens = session.Lens(side)) pair.lens[view] = &*lens;
+  }
+  for (const std::string& side : depth_sides) pair.truth.push_back(RenderDepthTruth(session, items, side, times));
+  return pair;
+}
+
+nlohmann::json MsaaJson(const MsaaPlan& plan) {
+  nlohmann::json offsets = nlohmann::json::array();
+  for (const Vec2& o : plan.offsets_px) offsets.push_back({o.x, o.y});
+  nlohmann::json pattern = nlohmann::json::array();
+  for (const Vec2& s : CompositeSamplePattern(plan)) pattern.push_back({s.x, s.y});
+  return {{"level", plan.level},
+          {"method", plan.method},
+          {"native_samples", plan.native_samples},
+          {"passes", plan.passes},
+          {"pass_offsets_px", offsets},
+          {"sample_positions_px", pattern},
+          {"averaging", "hardware resolve per pass, then mean of passes, in linear float colour"}};
+}
+
+nlohmann::json SessionManifestHeader(const RenderSession& session, const std::string& rig_hash) {
+  nlohmann::json header = {{"schema", kDatasetSchema},
+                           {"renderer", RendererIdentity()},
+                           {"device", DeviceJson(session.context->info())},
+                           {"image",
+                            {{"width", session.rig.left.intrinsics.width_px},
+                             {"height", session.rig.left.intrinsics.height_px},
+                             {"encoding", "PNG, 8-bit sRGB, RGB"}}},
+                           {"inputs", {{"rig", {{"file", kRigName}, {"sha256", rig_hash}}}}}};
+  if (session.left_lens) header["image"]["lens"] = LensJson(session);                   // absent for a pinhole rig
+  if (session.rig.sensor) header["image"]["sensor"] = SensorJson(*session.rig.sensor);  // absent: the ideal sensor
+  return header;
+}
+
+}  // namespace aar
