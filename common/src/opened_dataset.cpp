@@ -16,14 +16,13 @@ std::vector<std::string> RecordedHashes(const Manifest& manifest, const std::str
                                         const std::string& manifest_path) {
   std::vector<std::string> hashes;
   if (const auto it = manifest.files.find(name); it != manifest.files.end()) hashes.push_back(it->second);
-  const nlohmann::json recorded = manifest.json.value("inputs", nlohmann::json::object());
-  if (recorded.is_object() && recorded.contains(key) && recorded.at(key).is_object() &&
-      recorded.at(key).value("file", "") == name && recorded.at(key).contains("sha256")) {
-    if (!recorded.at(key).at("sha256").is_string()) {
-      throw Error(manifest_path + ": inputs." + key + ".sha256 is not a string");
-    }
-    hashes.push_back(recorded.at(key).at("sha256").get<std::string>());
-  }
+  if (!manifest.json.contains("inputs") || !manifest.json.at("inputs").is_object()) return hashes;
+  const nlohmann::json& inputs = manifest.json.at("inputs");
+  if (!inputs.contains(key) || !inputs.at(key).is_object()) return hashes;
+  const nlohmann::json& input = inputs.at(key);
+  if (!input.contains("file") || input.at("file") != name || !input.contains("sha256")) return hashes;
+  if (!input.at("sha256").is_string()) throw Error(manifest_path + ": inputs." + key + ".sha256 is not a string");
+  hashes.push_back(input.at("sha256").get<std::string>());
   return hashes;
 }
 

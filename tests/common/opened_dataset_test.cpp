@@ -92,6 +92,15 @@ TEST_F(OpenedDatasetTest, RefusesChangedOrMissingInputs) {
   EXPECT_TRUE(Contains(message, "SHA-256 differs from manifest.json's")) << message;
   Write(kRigName, ReadFileBytes(SourcePath("scenes/rig.json")));
   EXPECT_EQ(OpenError(), "");
+  // Inputs recorded in shapes the manifest does not use are not hashes.
+  manifest_["inputs"]["flight_path"] = {{"file", 5}, {"sha256", "x"}};
+  manifest_["inputs"]["receiver_model"] = "receiver.glb";
+  WriteManifest();
+  EXPECT_EQ(OpenError(), "");
+  manifest_["inputs"]["rig"]["sha256"] = 7;
+  WriteManifest();
+  EXPECT_TRUE(Contains(OpenError(), "inputs.rig.sha256 is not a string"));
+  manifest_["inputs"]["rig"]["sha256"] = Sha256File(dir_ / kRigName);
   // A recorded boom model that is not there.
   manifest_["files"][kBoomModelName] = std::string(64, 'a');
   WriteManifest();
