@@ -7,9 +7,11 @@
 
 #include <CLI/CLI.hpp>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -22,6 +24,7 @@
 #include "aar/renderer/msaa.h"
 #include "aar/renderer/stereo_render_job.h"
 #include "aar/renderer/vulkan_context.h"
+#include "aar/solar_position.h"
 #include "aar/text.h"
 
 namespace {
@@ -89,7 +92,48 @@ struct JobFlags {
   std::string shard;
   std::string background = aar::BackgroundName(aar::BackgroundOptions{}.kind);
   std::string far_boards = FarBoardsText(aar::RenderJobOptions{}.far_boards_m);
+  std::optional<double> sun_azimuth_deg, sun_elevation_deg, latitude_deg, longitude_deg, heading_deg;
+  std::string sun_time;
 };
+
+// The sun the flags give: an azimuth and elevation, or a time and place;
+// none of them leaves the default sun.
+std::optional<aar::SunOptions> ResolveSun(const JobFlags& f) {
+  const bool direct = f.sun_azimuth_deg || f.sun_elevation_deg;
+  const bool dated = !f.sun_time.empty() || f.latitude_deg || f.longitude_deg || f.heading_deg;
+  if (!direct && !dated) return std::nullopt;
+  if (direct && dated) {
+    throw aar::Error("--sun-azimuth/--sun-elevation or --sun-time/--latitude/--longitude/--heading: give one way");
+  }
+  aar::SunOptions sun;
+  if (direct) {
+    if (!f.sun_azimuth_deg || !f.sun_elevation_deg) throw aar::Error("--sun-azimuth and --sun-elevation: give both");
+    sun.azimuth_deg = *f.sun_azimuth_deg;
+    sun.elevation_deg = *f.sun_elevation_deg;
+    sun.source = "--sun-azimuth " + aar::FormatFixed(sun.azimuth_deg, 3) + " --sun-elevation " +
+                 aar::FormatFixed(sun.elevation_deg, 3);
+    return sun;
+  }
+  if (f.sun_time.empty() || !f.latitude_deg || !f.longitude_deg || !f.heading_deg) {
+    throw aar::Error("--sun-time, --latitude, --longitude and --heading: give all four");
+  }
+  if (!(std::abs(*f.latitude_deg) <= 90.0)) throw aar::Error("--latitude: expected -90 to 90 deg");
+  if (!(std::abs(*f.longitude_deg) <= 180.0)) throw aar::Error("--longitude: expected -180 to 180 deg");
+  if (!(*f.heading_deg >= 0.0 && *f.heading_deg < 360.0)) throw aar::Error("--heading: expected 0 to 360 deg");
+  const aar::SolarPosition p =
+      aar::SunPosition(aar::ParseUtcTime(f.sun_time, "--sun-time"), *f.latitude_deg, *f.longitude_deg);
+  if (p.elevation_deg < 0.0) {
+    throw aar::Error("--sun-time " + f.sun_time + ": the sun is " + aar::FormatFixed(-p.elevation_deg, 1) +
+                     " deg below the horizon there (night has no sun yet)");
+  }
+  sun.azimuth_deg = p.azimuth_deg - *f.heading_deg;
+  sun.elevation_deg = p.elevation_deg;
+  sun.source = "NOAA solar position at " + f.sun_time + ", latitude " + aar::FormatFixed(*f.latitude_deg, 6) +
+               ", longitude " + aar::FormatFixed(*f.longitude_deg, 6) + ", heading " +
+               aar::FormatFixed(*f.heading_deg, 3) + " deg true: azimuth " + aar::FormatFixed(p.azimuth_deg, 3) +
+               " deg true";
+  return sun;
+}
 
 // The background flags of `render` (and `bench`); the defaults are BackgroundOptions'.
 void AddBackgroundFlags(CLI::App& cmd, JobFlags& f, bool kind) {
@@ -110,6 +154,16 @@ void AddBackgroundFlags(CLI::App& cmd, JobFlags& f, bool kind) {
   cmd.add_option("--visibility", b.visibility_m, "sea-level visibility of the haze [m] (2 % contrast)")
       ->capture_default_str();
   cmd.add_option("--background-seed", b.seed, "seed of the terrain and cloud textures")->capture_default_str();
+  cmd.add_option("--sun-azimuth", f.sun_azimuth_deg,
+                 "the sun's azimuth, clockwise from the tanker's heading seen from above [deg] (with "
+                 "--sun-elevation; default: 52 deg left of the heading, 55 deg up)");
+  cmd.add_option("--sun-elevation", f.sun_elevation_deg, "the sun's elevation above the horizon, 0 to 90 [deg]");
+  cmd.add_option("--sun-time", f.sun_time,
+                 "the sun where it is at this UTC time, YYYY-MM-DDTHH:MM[:SS]Z (NOAA's solar position; with "
+                 "--latitude, --longitude, --heading)");
+  cmd.add_option("--latitude", f.latitude_deg, "with --sun-time: the tanker's latitude, north positive [deg]");
+  cmd.add_option("--longitude", f.longitude_deg, "with --sun-time: the tanker's longitude, east positive [deg]");
+  cmd.add_option("--heading", f.heading_deg, "with --sun-time: the tanker's true heading, 0 to 360 [deg]");
 }
 
 void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
@@ -195,6 +249,7 @@ int RunJob(int argc, char** argv, bool calib) {
   CLI11_PARSE(app, argc, argv);
   flags.job.selection = aar::ParseFrameSelection(flags.frames, flags.shard);
   flags.job.background.kind = aar::ParseBackgroundKind(flags.background);
+  if (!calib) flags.job.background.sun = ResolveSun(flags);
   if (calib) flags.job.far_boards_m = ParseFarBoards(flags.far_boards);
   const aar::RenderJobResult result =
       calib ? aar::RenderCalibrationJob(flags.job) : aar::RenderFlightPathJob(flags.job);
@@ -253,6 +308,7 @@ int RunBench(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   std::vector<aar::BackgroundKind> kinds;
   for (const std::string& name : backgrounds) kinds.push_back(aar::ParseBackgroundKind(name));
+  flags.job.background.sun = ResolveSun(flags);
   if (app.count("--msaa") > 0) {  // one level: the same as --levels with it alone
     if (app.count("--levels") > 0) throw aar::Error("--msaa and --levels: give one of them");
     levels = {flags.job.msaa};

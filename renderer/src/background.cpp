@@ -1,6 +1,7 @@
 #include "aar/renderer/background.h"
 
 #include <cmath>
+#include <numbers>
 
 #include "aar/error.h"
 #include "aar/pose.h"
@@ -49,6 +50,10 @@ void BackgroundOptions::Check() const {
   CheckRange(haze_scale_height_m, 100.0, 10000.0, "haze_scale_height_m", "m");
   CheckRange(ground_texel_m, 1.0, 64.0, "ground_texel_m", "m");
   CheckRange(cloud_texel_m, 1.0, 128.0, "cloud_texel_m", "m");
+  if (sun) {
+    CheckRange(sun->azimuth_deg, -360.0, 360.0, "--sun-azimuth", "deg");
+    CheckRange(sun->elevation_deg, 0.0, 90.0, "--sun-elevation", "deg");
+  }
 }
 
 Eigen::Matrix3d LevelFromTanker(const BackgroundOptions& options) {
@@ -67,7 +72,26 @@ Eigen::Vector3d CameraAboveGround(const Camera& camera, const BackgroundOptions&
          Eigen::Vector3d(0.0, 0.0, options.altitude_m);
 }
 
-Eigen::Vector3d SunInLevel() { return Eigen::Vector3d(0.35, 0.45, 0.82).normalized(); }
+Eigen::Vector3d SunInLevel(const BackgroundOptions& options) {
+  if (!options.sun) return Eigen::Vector3d(0.35, 0.45, 0.82).normalized();
+  constexpr double kDeg = std::numbers::pi / 180.0;
+  const double azimuth = options.sun->azimuth_deg * kDeg, elevation = options.sun->elevation_deg * kDeg;
+  // Clockwise from the heading seen from above: towards -y (right) for a positive azimuth.
+  return {std::cos(elevation) * std::cos(azimuth), -std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
+}
+
+nlohmann::json SunJson(const BackgroundOptions& options) {
+  const Eigen::Vector3d sun = SunInLevel(options);
+  nlohmann::json j = {{"in_level", {sun.x(), sun.y(), sun.z()}},
+                      {"level_frame", "x along the tanker's heading, y left, z up"}};
+  if (options.sun) {
+    j["azimuth_deg"] = options.sun->azimuth_deg;
+    j["elevation_deg"] = options.sun->elevation_deg;
+    j["azimuth"] = "clockwise from the tanker's heading, seen from above";
+    j["source"] = options.sun->source;
+  }
+  return j;
+}
 
 double HorizonDipRad(double height_m, double radius_m) { return std::acos(radius_m / (radius_m + height_m)); }
 
@@ -103,7 +127,7 @@ nlohmann::json BackgroundJson(const BackgroundOptions& o) {
   j["tanker_roll_deg"] = o.tanker_roll_deg;
   j["tanker_pitch_deg"] = o.tanker_pitch_deg;
   j["earth_radius_m"] = kEarthRadiusM;
-  const Eigen::Vector3d sun = SunInLevel();
+  const Eigen::Vector3d sun = SunInLevel(o);
   j["sun_in_level"] = {sun.x(), sun.y(), sun.z()};
   j["visibility_m"] = o.visibility_m;
   j["haze_scale_height_m"] = o.haze_scale_height_m;

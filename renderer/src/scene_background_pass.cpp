@@ -22,7 +22,7 @@ SceneRenderer::BackgroundPush SceneRenderer::BackgroundFor(const Camera& camera)
     push.level_from_pixel_rows[row] = glm::vec4(level_from_pixel(row, 0), level_from_pixel(row, 1),
                                                 level_from_pixel(row, 2), camera_above_ground[row]);
   }
-  const Eigen::Vector3d sun = SunInLevel();
+  const Eigen::Vector3d sun = SunInLevel(bg);
   push.sun_in_level = glm::vec4(sun.x(), sun.y(), sun.z(), 3.912 / bg.visibility_m);
   // The surface the rays meet: the ground, or the top of the cloud deck.
   const double surface_m = bg.kind == BackgroundKind::kClouds ? bg.cloud_top_m : 0.0;

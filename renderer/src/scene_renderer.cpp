@@ -126,7 +126,7 @@ SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, cons
 
   const BackgroundOptions& bg = options_.background;
   bg.Check();
-  const Eigen::Vector3f sun = (LevelFromTanker(bg).transpose() * SunInLevel()).cast<float>();
+  const Eigen::Vector3f sun = (LevelFromTanker(bg).transpose() * SunInLevel(bg)).cast<float>();
   sun_in_tanker_ = {sun.x(), sun.y(), sun.z()};
   if (bg.enabled()) {
     background_vert_ = CreateShaderModule(device, kSpirv_background_vert, sizeof(kSpirv_background_vert));

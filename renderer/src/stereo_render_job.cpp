@@ -164,6 +164,8 @@ nlohmann::json FlightPathFramesJson(const RenderJobOptions& options, const MsaaP
                            {"texture_anisotropy", options.anisotropy}};
   // Absent for the flat sky, so datasets made before backgrounds existed still match.
   if (options.background.enabled()) frames["background"] = BackgroundJson(options.background);
+  // Absent for the sun every dataset had before it could be set, likewise.
+  if (options.background.sun) frames["sun"] = SunJson(options.background);
   // Absent without the boom, so datasets without it keep their bytes.
   if (models.with_boom) frames["boom"] = BoomJson(path.front().boom.has_value());
   // Absent for an instant exposure and without propellers, likewise.

@@ -323,6 +323,48 @@ TEST(Background, FlatDefaultHasNoBackgroundInManifestOrMasks) {
   }
 }
 
+TEST(Background, SunDirectionFollowsAzimuthAndElevation) {
+  BackgroundOptions o;
+  EXPECT_TRUE(SunInLevel(o).isApprox(Eigen::Vector3d(0.35, 0.45, 0.82).normalized(), 1e-15));  // the default
+  o.sun = SunOptions{90.0, 0.0, "test"};  // to the right of the heading: -y in the level frame
+  EXPECT_TRUE(SunInLevel(o).isApprox(Eigen::Vector3d(0.0, -1.0, 0.0), 1e-12)) << SunInLevel(o).transpose();
+  o.sun = SunOptions{180.0, 30.0, "test"};  // behind, 30 deg up
+  EXPECT_TRUE(SunInLevel(o).isApprox(Eigen::Vector3d(-std::cos(30 * kDeg), 0.0, 0.5), 1e-12));
+  o.sun->elevation_deg = -1.0;
+  EXPECT_THROW(o.Check(), Error);
+}
+
+// The receiver's camera-facing surfaces (front and top, seen from the
+// tanker) are brighter under a sun ahead of the receiver than under a low
+// sun behind it, and the manifest records the sun it was lit by.
+TEST(Background, TheSunLightsTheReceiverFromWhereItIsSet) {
+  TempDir dir("background-sun");
+  const std::filesystem::path path = WritePath(dir);
+  const auto receiver_brightness = [&](const std::string& name, std::optional<SunOptions> sun) {
+    RenderJobOptions o = Options(dir / name, path);
+    o.depth = true;
+    o.selection.end = 1;
+    o.background.sun = std::move(sun);
+    RenderFlightPathJob(o);
+    const cv::Mat image = cv::imread(FramePath(o.output, 0, "left").string(), cv::IMREAD_GRAYSCALE);
+    const cv::Mat silhouette = ReadGrey(FramePath(o.output, 0, "left_silhouette"));
+    EXPECT_GT(cv::countNonZero(silhouette), 1000);
+    return cv::mean(image, silhouette)[0];
+  };
+  const double ahead = receiver_brightness("ahead", SunOptions{180.0, 30.0, "test"});
+  const double behind = receiver_brightness("behind", SunOptions{0.0, 5.0, "test"});
+  EXPECT_GT(ahead, 1.1 * behind) << ahead << " " << behind;
+  const nlohmann::json manifest = nlohmann::json::parse(ReadFileBytes(dir / "behind" / kManifestName));
+  const nlohmann::json& sun = manifest.at("frames").at("sun");
+  EXPECT_EQ(sun.at("elevation_deg"), 5.0);
+  EXPECT_NEAR(sun.at("in_level").at(2).get<double>(), std::sin(5.0 * kDeg), 1e-12);
+  EXPECT_EQ(sun.at("source"), "test");
+  RenderJobOptions plain = Options(dir / "plain", path);
+  plain.selection.end = 1;
+  RenderFlightPathJob(plain);
+  EXPECT_FALSE(nlohmann::json::parse(ReadFileBytes(plain.output / kManifestName)).at("frames").contains("sun"));
+}
+
 TEST(BackgroundTexture, DeterministicPeriodicAndShowsFieldsRoadsWater) {
   const TextureMips a = TerrainTexture(3, 512);
   const TextureMips b = TerrainTexture(3, 512);

@@ -40,6 +40,15 @@ inline constexpr uint8_t kCloudDeckId = 5;
 
 inline constexpr double kEarthRadiusM = 6371000.0;  ///< mean Earth radius, spherical ground [m]
 
+/// Where the sun is, in the tanker's level frame (docs/rendering.md, "The
+/// sun"): set directly (--sun-azimuth, --sun-elevation) or from a date, time
+/// and place (--sun-time, --latitude, --longitude, --heading; solar_position.h).
+struct SunOptions {
+  double azimuth_deg = 0.0;     ///< clockwise from the tanker's heading, seen from above [deg], -360 to 360
+  double elevation_deg = 45.0;  ///< above the horizon [deg], 0 to 90 (the night has no sun)
+  std::string source;           ///< how it was set, recorded in the manifest
+};
+
 struct BackgroundOptions {
   BackgroundKind kind = BackgroundKind::kFlat;
   double altitude_m = 7000.0;           ///< tanker origin above the ground (ground = sea level) [m], 100 to 20,000
@@ -51,6 +60,10 @@ struct BackgroundOptions {
   double ground_texel_m = 8.0;          ///< terrain texture resolution on the ground [m per texel], 1 to 64
   double cloud_texel_m = 16.0;          ///< cloud-top texture resolution [m per texel], 1 to 128
   uint32_t seed = 1;                    ///< terrain and cloud layout (the textures are a function of it)
+  /// The sun lighting the scene and the sky; none: azimuth 52 deg left of
+  /// the heading, elevation 55 deg (SunInLevel), the light every dataset
+  /// made without it has.
+  std::optional<SunOptions> sun;
 
   /// Throws aar::Error naming the command-line flag of the first value out of range (or NaN).
   void Check() const;
@@ -60,10 +73,15 @@ struct BackgroundOptions {
 /// level_from_tanker (rotation only; the tanker origin is the level origin).
 Eigen::Matrix3d LevelFromTanker(const BackgroundOptions& options);
 
-/// The sun (unit vector towards it) in the level frame: azimuth 52 deg left of
-/// the heading, elevation 55 deg, the direction the aircraft have always been
-/// lit from (in the tanker frame, for a level tanker).
-Eigen::Vector3d SunInLevel();
+/// The sun (unit vector towards it) in the level frame (x along the heading,
+/// y left, z up): options.sun's, or without one azimuth 52 deg left of the
+/// heading, elevation 55 deg, the direction the aircraft were always lit
+/// from (in the tanker frame, for a level tanker).
+Eigen::Vector3d SunInLevel(const BackgroundOptions& options);
+
+/// frames.sun of the manifest: the sun's azimuth and elevation, its vector
+/// in the level frame and how it was set.
+nlohmann::json SunJson(const BackgroundOptions& options);
 
 /// level_from_pixel: the level-frame ray of OpenCV pixel (u, v) is
 /// level_from_pixel * (u, v, 1), scaled so that its camera-frame z is 1 (a
