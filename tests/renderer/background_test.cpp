@@ -334,9 +334,9 @@ TEST(Background, SunDirectionFollowsAzimuthAndElevation) {
   EXPECT_THROW(o.Check(), Error);
 }
 
-// The receiver's camera-facing surfaces (front and top, seen from the
-// tanker) are brighter under a sun ahead of the receiver than under a low
-// sun behind it, and the manifest records the sun it was lit by.
+// The receiver's top, which the cameras look down on, is brighter under a
+// sun 30 deg up aft of the tanker than under a sun 5 deg up ahead of it, and
+// the manifest records the sun it was lit by.
 TEST(Background, TheSunLightsTheReceiverFromWhereItIsSet) {
   TempDir dir("background-sun");
   const std::filesystem::path path = WritePath(dir);
@@ -351,10 +351,10 @@ TEST(Background, TheSunLightsTheReceiverFromWhereItIsSet) {
     EXPECT_GT(cv::countNonZero(silhouette), 1000);
     return cv::mean(image, silhouette)[0];
   };
-  const double ahead = receiver_brightness("ahead", SunOptions{180.0, 30.0, "test"});
-  const double behind = receiver_brightness("behind", SunOptions{0.0, 5.0, "test"});
-  EXPECT_GT(ahead, 1.1 * behind) << ahead << " " << behind;
-  const nlohmann::json manifest = nlohmann::json::parse(ReadFileBytes(dir / "behind" / kManifestName));
+  const double high_aft = receiver_brightness("high-aft", SunOptions{180.0, 30.0, "test"});
+  const double low_ahead = receiver_brightness("low-ahead", SunOptions{0.0, 5.0, "test"});
+  EXPECT_GT(high_aft, 1.1 * low_ahead) << high_aft << " " << low_ahead;
+  const nlohmann::json manifest = nlohmann::json::parse(ReadFileBytes(dir / "low-ahead" / kManifestName));
   const nlohmann::json& sun = manifest.at("frames").at("sun");
   EXPECT_EQ(sun.at("elevation_deg"), 5.0);
   EXPECT_NEAR(sun.at("in_level").at(2).get<double>(), std::sin(5.0 * kDeg), 1e-12);
