@@ -1,8 +1,9 @@
 // aar-make-rig: writes the committed stereo rigs scenes/rig.json (cameras
 // 30 deg down), scenes/rig-thesis.json (41 deg down, issue 9) and
 // scenes/rig-distorted.json (rig.json with lens distortion) and
-// scenes/rig-noisy.json (rig.json with an image sensor) from their
-// presets (rig_presets.h), atomically.
+// scenes/rig-noisy.json (rig.json with an image sensor) and
+// scenes/rig-1080p.json, scenes/rig-2160p.json (rig.json's cameras at
+// higher resolutions) from their presets (rig_presets.h), atomically.
 //
 //   aar-make-rig --out scenes/
 
@@ -18,8 +19,8 @@
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "Generate the committed stereo rigs rig.json, rig-thesis.json, rig-distorted.json and rig-noisy.json "
-      "(deterministic)."};
+      "Generate the committed stereo rigs rig.json, rig-thesis.json, rig-distorted.json, rig-noisy.json, "
+      "rig-1080p.json and rig-2160p.json (deterministic)."};
   std::string out_dir = "scenes";
   app.add_option("--out", out_dir, "output folder (scenes/)");
   CLI11_PARSE(app, argc, argv);
@@ -29,7 +30,8 @@ int main(int argc, char** argv) {
     aar::EnsureWritableDirectory(out);
     for (const auto& [name, preset] :
          {std::pair{"rig.json", sc::DefaultRig()}, std::pair{"rig-thesis.json", sc::ThesisRig()},
-          std::pair{"rig-distorted.json", sc::DistortedRig()}, std::pair{"rig-noisy.json", sc::NoisyRig()}}) {
+          std::pair{"rig-distorted.json", sc::DistortedRig()}, std::pair{"rig-noisy.json", sc::NoisyRig()},
+          std::pair{"rig-1080p.json", sc::Rig1080p()}, std::pair{"rig-2160p.json", sc::Rig2160p()}}) {
       const std::filesystem::path path = out / name;
       aar::WriteFileAtomic(path, sc::FormatRig(preset));
       const aar::StereoRig rig = aar::LoadRig(path);  // the written file reads back as a rig

@@ -107,6 +107,34 @@ RigPreset DistortedRig() {
   return r;
 }
 
+namespace {
+
+// scenes/rig.json's cameras at a higher resolution: the same vertical field
+// of view (46.2 deg: the height the receiver's approach needs) on a 16:9
+// sensor, so the view is wider (74.3 deg); the same baseline.
+RigPreset WideRig(int width, int height, const std::string& name) {
+  RigPreset r = DefaultRig();
+  const RigPreset base;
+  r.image_width = width;
+  r.image_height = height;
+  r.f_px = base.f_px * height / base.image_height;  // 1265.625 px at 1080 rows, 2531.25 at 2160
+  r.cx_px = 0.5 * (width - 1);
+  r.cy_px = 0.5 * (height - 1);
+  r.description = "The cameras of scenes/rig.json at " + name + " (" + std::to_string(width) + " x " +
+                  std::to_string(height) +
+                  "): the same position, baseline and vertical field of view, a 16:9 sensor and so a wider view. "
+                  "Pinhole cameras, no distortion. Positions in the tanker body frame (x forward, y left, z up, "
+                  "metres). Rotations are tanker_from_camera: columns are the camera's x (right), y (down), z "
+                  "(optical axis) expressed in the tanker frame.";
+  return r;
+}
+
+}  // namespace
+
+RigPreset Rig1080p() { return WideRig(1920, 1080, "1080p"); }
+
+RigPreset Rig2160p() { return WideRig(3840, 2160, "2160p (4K UHD)"); }
+
 RigPreset NoisyRig() {
   RigPreset r = DefaultRig();
   // A machine-vision CMOS sensor (SensorParams' defaults: 10,000 e- full

@@ -52,6 +52,12 @@ RigPreset DistortedRig();
 /// an image sensor: noise, fixed pattern, optical blur and an RGGB mosaic.
 RigPreset NoisyRig();
 
+/// scenes/rig-1080p.json and scenes/rig-2160p.json: scenes/rig.json's
+/// cameras at 1920 x 1080 and 3840 x 2160, the same vertical field of view
+/// and baseline (focal length 1265.625 and 2531.25 px).
+RigPreset Rig1080p();
+RigPreset Rig2160p();
+
 /// The JSON text of a preset (the committed files' layout): aar-rig/1,
 /// aar-rig/2 with a "distortion" object per camera when either has any, or
 /// aar-rig/3 with a "sensor" block when the preset has a sensor.
