@@ -169,16 +169,7 @@ RunInputs OpenRunInputs(const AnalysisRunOptions& requested) {
   }
   options.selection.CheckWithin(manifest.frame_count, manifest_path);
   in.selected = options.selection.Select(manifest.frame_count);
-  if (manifest.complete) {
-    // A complete manifest lists every frame: one that is not there would go unchecked.
-    for (size_t index : in.selected) {
-      const std::string sidecar =
-          std::filesystem::relative(SidecarPath(options.dataset, "frame", index), options.dataset).generic_string();
-      if (!manifest.files.contains(sidecar)) {
-        throw Error(manifest_path + ": complete, but 'files' does not list " + sidecar);
-      }
-    }
-  }
+  for (size_t index : in.selected) in.dataset.CheckListed("frame", index);  // before any output, not per frame
   const StereoRig& rig = in.dataset.rig();
   if (options.frame.disparity.num_disparities >= rig.left.intrinsics.width_px) {
     throw Error("--num-disparities " + std::to_string(options.frame.disparity.num_disparities) +
@@ -197,10 +188,7 @@ RunInputs OpenRunInputs(const AnalysisRunOptions& requested) {
 // The receiver's mesh: the file given, or the dataset's copy (checked against the manifest by Open).
 TriangleMesh LoadRunReceiver(const RunInputs& in) {
   if (in.options.receiver_model) return LoadReceiverMesh(*in.options.receiver_model);
-  const std::string* glb = in.dataset.Input(kReceiverModelName);
-  const std::string path = in.dataset.PathOf(kReceiverModelName);
-  if (glb == nullptr) throw Error(path + ": receiver model file not found");
-  return MeshFromGltf(*glb, path, in.dataset.folder().string());
+  return LoadInputMesh(in.dataset, kReceiverModelName);
 }
 
 // The run's calibration: the file given, or one from the dataset's boards.
@@ -272,15 +260,11 @@ void EnableCorrections(FrameAnalyzer& analyzer, const RunInputs& in, const Trian
   if (options.frame.correct_window_bias || options.frame.refine_direct) analyzer.SetReceiverMesh(mesh);
   if (options.frame.mask_boom) {
     // OpenedDataset::Open has checked the copies against the hashes the manifest records.
-    const std::string* boom = in.dataset.Input(kBoomModelName);
-    const std::string* tube = in.dataset.Input(kBoomTubeModelName);
-    if (!HasBoom(in.dataset.manifest()) || boom == nullptr || tube == nullptr) {
+    if (!HasBoom(in.dataset.manifest())) {
       throw Error("--mask-boom: " + options.dataset.string() +
                   " has no boom (boom.glb, boom_tube.glb: render a flight path with the boom columns, or --boom)");
     }
-    const std::string folder = in.dataset.folder().string();
-    analyzer.EnableBoomMask(MeshFromGltf(*boom, in.dataset.PathOf(kBoomModelName), folder),
-                            MeshFromGltf(*tube, in.dataset.PathOf(kBoomTubeModelName), folder));
+    analyzer.EnableBoomMask(LoadInputMesh(in.dataset, kBoomModelName), LoadInputMesh(in.dataset, kBoomTubeModelName));
   }
 }
 

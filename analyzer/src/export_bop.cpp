@@ -168,13 +168,12 @@ ExportResult ExportBop(const ExportOptions& options) {
     throw Error(options.dataset.string() +
                 ": BOP's camera model is a pinhole (cam_K), and this dataset's cameras have lens distortion");
   }
-  const std::string receiver = source.dataset.PathOf(kReceiverModelName);
   // Open has checked the copy against the manifest's SHA-256 where the manifest lists it.
-  const std::string* glb = source.dataset.Input(kReceiverModelName);
-  if (glb == nullptr || !source.dataset.manifest().files.contains(kReceiverModelName)) {
-    throw Error(receiver + ": missing, or not listed in manifest.json");
+  if (source.dataset.Input(kReceiverModelName) == nullptr ||
+      !source.dataset.manifest().files.contains(kReceiverModelName)) {
+    throw Error(source.dataset.PathOf(kReceiverModelName) + ": missing, or not listed in manifest.json");
   }
-  const TriangleMesh mesh = MeshFromGltf(*glb, receiver, source.dataset.folder().string());
+  const TriangleMesh mesh = LoadInputMesh(source.dataset, kReceiverModelName);
   // The right camera type needs right-camera truth in every frame; every file is checked before writing.
   bool right = true;
   for (const FrameSidecar& frame : source.frames) {

@@ -76,13 +76,7 @@ void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& pr
   }
 }
 
-}  // namespace
-
-TriangleMesh LoadReceiverMesh(const std::filesystem::path& path) {
-  CheckRegularFile(path, "receiver model file");
-  return MeshFromGltf(ReadFileBytes(path), path.string(), path.parent_path().string());
-}
-
+// A .glb or .gltf file's bytes read from `where`; a .gltf's external buffers are looked up in `base_dir`.
 TriangleMesh MeshFromGltf(const std::string& bytes, const std::string& where, const std::string& base_dir) {
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&SkipImage, nullptr);
@@ -108,6 +102,19 @@ TriangleMesh MeshFromGltf(const std::string& bytes, const std::string& where, co
   });
   if (mesh.triangles.empty()) throw Error(where + ": the model holds no triangles");
   return mesh;
+}
+
+}  // namespace
+
+TriangleMesh LoadReceiverMesh(const std::filesystem::path& path) {
+  CheckRegularFile(path, "receiver model file");
+  return MeshFromGltf(ReadFileBytes(path), path.string(), path.parent_path().string());
+}
+
+TriangleMesh LoadInputMesh(const OpenedDataset& dataset, const std::string& name) {
+  const std::string* bytes = dataset.Input(name);
+  if (bytes == nullptr) throw Error(dataset.PathOf(name) + ": model file not found");
+  return MeshFromGltf(*bytes, dataset.PathOf(name), dataset.folder().string());
 }
 
 double TriangleArea(const TriangleMesh& mesh, size_t triangle) {

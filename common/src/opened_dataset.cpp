@@ -100,11 +100,8 @@ FrameSidecar OpenedDataset::Sidecar(const std::string& kind, size_t index) const
   const std::string relative = SidecarRelative(kind, index);
   const std::filesystem::path path = folder_ / relative;
   if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": sidecar missing (not rendered)");
+  CheckListed(kind, index);
   const auto listed = manifest_.files.find(relative);
-  if (manifest_.complete && listed == manifest_.files.end()) {
-    // A complete manifest lists every sidecar: one that is not there would go unchecked.
-    throw Error(PathOf(kManifestName) + ": complete, but 'files' does not list " + relative);
-  }
   const std::string bytes = ReadFileBytes(path);
   if (listed != manifest_.files.end() && listed->second != Sha256Hex(bytes)) {
     throw Error(path.string() + ": SHA-256 differs from manifest.json's");
@@ -119,6 +116,13 @@ FrameSidecar OpenedDataset::Sidecar(const std::string& kind, size_t index) const
                 " " + std::to_string(index));
   }
   return sidecar;
+}
+
+void OpenedDataset::CheckListed(const std::string& kind, size_t index) const {
+  const std::string relative = SidecarRelative(kind, index);
+  if (manifest_.complete && !manifest_.files.contains(relative)) {
+    throw Error(PathOf(kManifestName) + ": complete, but 'files' does not list " + relative);
+  }
 }
 
 std::string OpenedDataset::ReadFile(const FileRef& ref) const {

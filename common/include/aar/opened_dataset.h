@@ -55,6 +55,9 @@ class OpenedDataset {
   /// other settings, or holds another frame, and naming manifest.json when
   /// it is complete but does not list the sidecar.
   FrameSidecar Sidecar(const std::string& kind, size_t index) const;
+  /// Throws aar::Error naming manifest.json when it is complete but does not
+  /// list sidecar `index` of `kind` (which would then go unchecked).
+  void CheckListed(const std::string& kind, size_t index) const;
   /// The file `ref` of a sidecar, checked against the sidecar's SHA-256 and,
   /// where manifest.json lists it, the manifest's; throws aar::Error naming
   /// the file when it is missing, unreadable or changed.

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "aar/opened_dataset.h"
+
 namespace aar {
 
 struct TriangleMesh {
@@ -24,9 +26,10 @@ struct TriangleMesh {
 /// Throws aar::Error naming the file when it is missing, cannot be parsed,
 /// has malformed accessors, or holds no triangle.
 TriangleMesh LoadReceiverMesh(const std::filesystem::path& path);
-/// The same for a .glb or .gltf file's bytes, read from `where`; a .gltf's
-/// external buffers are looked up in `base_dir`.
-TriangleMesh MeshFromGltf(const std::string& bytes, const std::string& where, const std::string& base_dir);
+/// The same for the render input `name` of `dataset` (kReceiverModelName,
+/// kBoomModelName, kBoomTubeModelName), as OpenedDataset::Open read and
+/// checked it; throws aar::Error naming the file when the dataset has none.
+TriangleMesh LoadInputMesh(const OpenedDataset& dataset, const std::string& name);
 
 /// Area of one triangle [m^2].
 double TriangleArea(const TriangleMesh& mesh, size_t triangle);
