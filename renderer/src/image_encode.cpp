@@ -11,6 +11,7 @@
 
 #include "aar/error.h"
 #include "aar/file_io.h"
+#include "aar/renderer/scene_model.h"
 
 namespace aar {
 namespace {

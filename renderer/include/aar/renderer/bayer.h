@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "aar/renderer/scene_renderer.h"
+#include "aar/image.h"
 
 namespace aar {
 

@@ -5,7 +5,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 
-#include "aar/renderer/scene_renderer.h"
+#include "aar/image.h"
 
 namespace aar {
 

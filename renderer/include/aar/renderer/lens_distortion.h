@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "aar/renderer/scene_renderer.h"
+#include "aar/image.h"
 #include "aar/rig.h"
 
 namespace aar {

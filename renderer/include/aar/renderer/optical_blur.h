@@ -3,7 +3,7 @@
 // (docs/rendering.md, "Sensor model"): the lens and sensor's blur, applied in
 // linear light before the sensor's noise.
 
-#include "aar/renderer/scene_renderer.h"
+#include "aar/image.h"
 
 namespace aar {
 

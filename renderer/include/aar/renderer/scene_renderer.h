@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "aar/image.h"
 #include "aar/renderer/background.h"
 #include "aar/renderer/geometry_rect.h"
 #include "aar/renderer/gpu_resources.h"
@@ -32,20 +33,6 @@ struct RenderItem {
 struct ViewTimings {
   double render_ms = 0.0;    ///< recording, submission and GPU time of the passes
   double readback_ms = 0.0;  ///< copy to host memory, conversion and averaging
-};
-
-/// Linear RGB floats, row-major, 3 per pixel.
-struct LinearImage {
-  int width = 0;
-  int height = 0;
-  std::vector<float> rgb;
-};
-
-struct GroundTruthImage {
-  int width = 0;
-  int height = 0;
-  std::vector<float> depth_m;      ///< along the optical axis, 0 where no surface
-  std::vector<uint8_t> object_id;  ///< RenderItem::object_id, 0 for background
 };
 
 struct SceneRendererOptions {

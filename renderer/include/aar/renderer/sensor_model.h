@@ -12,7 +12,7 @@
 #include <mutex>
 #include <utility>
 
-#include "aar/renderer/scene_renderer.h"
+#include "aar/image.h"
 #include "aar/sensor.h"
 
 namespace aar {
