@@ -202,6 +202,10 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
                    "instants the exposure is rendered at, a power of two (with --shutter-ms; cost: max(this, MSAA "
                    "passes) passes per view)")
         ->capture_default_str();
+    cmd.add_option("--readout-bands", f.job.readout_bands,
+                   "bands of rows a rolling shutter's frame is rendered in, each at its own instant (a rig whose "
+                   "sensor.readout_ms > 0; a row's instant is off by at most readout / (2 bands)), 1 to 1024")
+        ->capture_default_str();
     cmd.add_flag("--depth", f.job.depth,
                  "also write left-camera ground-truth depth (EXR, metres), object ids and receiver silhouette");
     cmd.add_flag("--depth-right", f.job.depth_right, "also write the same for the right camera (implies --depth)");

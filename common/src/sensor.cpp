@@ -58,12 +58,16 @@ void SensorParams::Check(const std::string& where) const {
   if (!(blur_sigma_px >= 0.0 && blur_sigma_px <= 10.0)) {
     throw Error(at + "blur_sigma_px " + Text(blur_sigma_px) + " must be in [0, 10] [px]");
   }
+  if (!(readout_ms >= 0.0 && readout_ms <= 100.0)) {
+    throw Error(at + "readout_ms " + Text(readout_ms) + " must be in [0, 100] [ms] (0: a global shutter)");
+  }
 }
 
 SensorParams SensorFromJson(const nlohmann::json& j, const std::string& where) {
   if (!j.is_object()) throw Error(where + ": sensor must be an object");
-  static const std::set<std::string> known = {"seed",   "exposure_e", "full_well_e",    "read_noise_e",  "prnu",
-                                              "dsnu_e", "adc_bits",   "black_level_dn", "blur_sigma_px", "bayer"};
+  static const std::set<std::string> known = {"seed",          "exposure_e", "full_well_e", "read_noise_e",
+                                              "prnu",          "dsnu_e",     "adc_bits",    "black_level_dn",
+                                              "blur_sigma_px", "bayer",      "readout_ms"};
   for (const auto& item : j.items()) {
     if (!known.contains(item.key())) {
       throw Error(where + ": sensor." + item.key() + " is not a sensor field (docs/dataset-format.md)");
@@ -87,6 +91,7 @@ SensorParams SensorFromJson(const nlohmann::json& j, const std::string& where) {
         static_cast<int>(JsonInteger(j.at("black_level_dn"), 0, 65534, where + ": sensor.black_level_dn"));
   }
   if (j.contains("blur_sigma_px")) s.blur_sigma_px = Number(j, "blur_sigma_px", where);
+  if (j.contains("readout_ms")) s.readout_ms = Number(j, "readout_ms", where);
   if (j.contains("bayer")) {
     const nlohmann::json& b = j.at("bayer");
     if (b == "none") {
@@ -102,16 +107,18 @@ SensorParams SensorFromJson(const nlohmann::json& j, const std::string& where) {
 }
 
 nlohmann::json SensorToJson(const SensorParams& s) {
-  return nlohmann::json::object({{"seed", s.seed},
-                                 {"exposure_e", s.exposure_e},
-                                 {"full_well_e", s.full_well_e},
-                                 {"read_noise_e", s.read_noise_e},
-                                 {"prnu", s.prnu},
-                                 {"dsnu_e", s.dsnu_e},
-                                 {"adc_bits", s.adc_bits},
-                                 {"black_level_dn", s.black_level_dn},
-                                 {"blur_sigma_px", s.blur_sigma_px},
-                                 {"bayer", s.bayer == BayerPattern::kRggb ? "rggb" : "none"}});
+  nlohmann::json j = nlohmann::json::object({{"seed", s.seed},
+                                             {"exposure_e", s.exposure_e},
+                                             {"full_well_e", s.full_well_e},
+                                             {"read_noise_e", s.read_noise_e},
+                                             {"prnu", s.prnu},
+                                             {"dsnu_e", s.dsnu_e},
+                                             {"adc_bits", s.adc_bits},
+                                             {"black_level_dn", s.black_level_dn},
+                                             {"blur_sigma_px", s.blur_sigma_px},
+                                             {"bayer", s.bayer == BayerPattern::kRggb ? "rggb" : "none"}});
+  if (s.readout_ms > 0.0) j["readout_ms"] = s.readout_ms;
+  return j;
 }
 
 }  // namespace aar

@@ -39,12 +39,15 @@ VkPipeline PipelineBuilder::Build(VkDevice device, VkRenderPass render_pass) con
   VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
   assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
   VkViewport viewport{0.0f, 0.0f, static_cast<float>(width), static_cast<float>(height), 0.0f, 1.0f};
-  VkRect2D scissor{{0, 0}, {width, height}};
+  // The scissor is set per render pass to its render area: nothing outside it is rasterized.
   VkPipelineViewportStateCreateInfo viewport_state{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
   viewport_state.viewportCount = 1;
   viewport_state.pViewports = &viewport;
   viewport_state.scissorCount = 1;
-  viewport_state.pScissors = &scissor;
+  const VkDynamicState dynamic_scissor = VK_DYNAMIC_STATE_SCISSOR;
+  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  dynamic.dynamicStateCount = 1;
+  dynamic.pDynamicStates = &dynamic_scissor;
   VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
   raster.polygonMode = VK_POLYGON_MODE_FILL;
   raster.cullMode = VK_CULL_MODE_NONE;  // models are double-sided
@@ -72,6 +75,7 @@ VkPipeline PipelineBuilder::Build(VkDevice device, VkRenderPass render_pass) con
   pipeline.pMultisampleState = &multisample;
   pipeline.pDepthStencilState = &depth;
   pipeline.pColorBlendState = &blend;
+  pipeline.pDynamicState = &dynamic;
   pipeline.layout = layout;
   pipeline.renderPass = render_pass;
   VkPipeline out = VK_NULL_HANDLE;

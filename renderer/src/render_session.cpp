@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "aar/dataset.h"
+#include "aar/error.h"
 #include "aar/progress.h"
 #include "aar/renderer/dataset_writer.h"
 #include "aar/text.h"
@@ -73,21 +74,37 @@ nlohmann::json SensorJson(const SensorParams& sensor) {
   return j;
 }
 
-// Depth truth of one camera: depth and object ids from a single-sample pass
-// of the whole scene, and the receiver's silhouette from a pass of the
-// receiver alone (255 where it covers the pixel, whatever is in front).
-ViewTruth RenderDepthTruth(RenderSession& session, const std::vector<RenderItem>& items, const std::string& side,
-                           RenderStageTimes& times) {
+// Depth truth of one camera at one instant: depth and object ids from a
+// single-sample pass of the whole scene, and the receiver's silhouette from
+// a pass of the receiver alone (255 where it covers the pixel, whatever is in
+// front); of `rows` only when given. Before the lens's resampling.
+ViewTruth RenderTruthPasses(RenderSession& session, const std::vector<RenderItem>& items, const std::string& side,
+                            const PixelRect* rows) {
   const Camera camera = session.RenderCamera(side);
-  auto start = std::chrono::steady_clock::now();
   ViewTruth view;
   view.side = side;
-  view.scene = session.renderer->RenderGroundTruth(camera, session.rig.near_m, items);
+  view.scene = session.renderer->RenderGroundTruth(camera, session.rig.near_m, items, rows);
   std::vector<RenderItem> receiver_only;
   for (const RenderItem& item : items) {
     if (item.object_id == kReceiverObjectId) receiver_only.push_back(item);
   }
-  view.alone = session.renderer->RenderGroundTruth(camera, session.rig.near_m, receiver_only);
+  view.alone = session.renderer->RenderGroundTruth(camera, session.rig.near_m, receiver_only, rows);
+  return view;
+}
+
+// Depth truth of one camera: of the one band's instant, or of each readout
+// band's in its own pixels; resampled through the lens.
+ViewTruth RenderDepthTruth(RenderSession& session, const std::vector<BandScene>& bands, const std::string& side,
+                           RenderStageTimes& times) {
+  auto start = std::chrono::steady_clock::now();
+  const std::optional<ReadoutBands>& readout = session.Readout(side);
+  ViewTruth view =
+      RenderTruthPasses(session, bands.front().instant, side, bands.size() > 1 ? &readout->Rows(0) : nullptr);
+  for (size_t b = 1; b < bands.size(); ++b) {
+    const ViewTruth band = RenderTruthPasses(session, bands[b].instant, side, &readout->Rows(static_cast<int>(b)));
+    readout->Composite(static_cast<int>(b), band.scene, view.scene);
+    readout->Composite(static_cast<int>(b), band.alone, view.alone);
+  }
   times.render_ms += MillisecondsSince(start);
   if (const std::optional<LensResampler>& lens = session.Lens(side)) {
     start = std::chrono::steady_clock::now();
@@ -96,6 +113,26 @@ ViewTruth RenderDepthTruth(RenderSession& session, const std::vector<RenderItem>
     times.readback_ms += MillisecondsSince(start);
   }
   return view;
+}
+
+// Linear colour of one camera: the one band's exposure, or each readout
+// band's in its own pixels (band 0's render holds the background elsewhere,
+// which the other bands' pixels replace).
+LinearImage RenderViewColor(RenderSession& session, const std::vector<BandScene>& bands, const std::string& side,
+                            RenderStageTimes& times) {
+  const Camera camera = session.RenderCamera(side);
+  const std::optional<ReadoutBands>& readout = session.Readout(side);
+  ViewTimings timings;
+  LinearImage color = session.renderer->RenderExposure(camera, session.rig.near_m, bands.front().exposure, session.plan,
+                                                       &timings, bands.size() > 1 ? &readout->Rows(0) : nullptr);
+  for (size_t b = 1; b < bands.size(); ++b) {
+    const LinearImage band = session.renderer->RenderExposure(
+        camera, session.rig.near_m, bands[b].exposure, session.plan, &timings, &readout->Rows(static_cast<int>(b)));
+    readout->Composite(static_cast<int>(b), band, color);
+  }
+  times.render_ms += timings.render_ms;
+  times.readback_ms += timings.readback_ms;
+  return color;
 }
 
 }  // namespace
@@ -113,29 +150,34 @@ RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig
   render_options.max_anisotropy = options.anisotropy;
   render_options.background = background;
   OpenLenses(s);
+  if (rig.sensor && rig.sensor->readout_ms > 0.0) {
+    s.readout_ms = rig.sensor->readout_ms;
+    s.left_readout.emplace(rig.left.intrinsics, s.RenderCamera("left").intrinsics, options.readout_bands);
+    s.right_readout.emplace(rig.right.intrinsics, s.RenderCamera("right").intrinsics, options.readout_bands);
+  }
   const Intrinsics& size = s.RenderCamera("left").intrinsics;
   s.renderer = std::make_unique<SceneRenderer>(*s.context, size.width_px, size.height_px, render_options);
   return s;
 }
 
-RenderedPair RenderPair(RenderSession& session, const std::vector<std::vector<RenderItem>>& exposure,
-                        const std::vector<RenderItem>& items, const std::string& dir, FrameSidecar sidecar,
-                        const std::vector<std::string>& depth_sides, RenderStageTimes& times) {
+RenderedPair RenderPair(RenderSession& session, const std::vector<BandScene>& bands, const std::string& dir,
+                        FrameSidecar sidecar, const std::vector<std::string>& depth_sides, RenderStageTimes& times) {
+  const size_t readout_bands = session.left_readout ? static_cast<size_t>(session.left_readout->bands()) : 1;
+  if (bands.empty() || (bands.size() > 1 && bands.size() != readout_bands)) {
+    throw Error("render: " + std::to_string(bands.size()) + " bands of a pair, the session reads out " +
+                std::to_string(readout_bands));
+  }
   RenderedPair pair;
   pair.dir = dir;
   pair.sidecar = std::move(sidecar);
   pair.sensor = session.sensor;
   for (size_t view = 0; view < pair.color.size(); ++view) {
     const std::string side = view == 0 ? "left" : "right";
-    ViewTimings timings;
-    pair.color[view] = session.renderer->RenderExposure(session.RenderCamera(side), session.rig.near_m, exposure,
-                                                        session.plan, &timings);
-    times.render_ms += timings.render_ms;
-    times.readback_ms += timings.readback_ms;
+    pair.color[view] = RenderViewColor(session, bands, side, times);
     // Resampled through the lens on the writer's threads, beside the next pair's rendering.
     if (const std::optional<LensResampler>& lens = session.Lens(side)) pair.lens[view] = &*lens;
   }
-  for (const std::string& side : depth_sides) pair.truth.push_back(RenderDepthTruth(session, items, side, times));
+  for (const std::string& side : depth_sides) pair.truth.push_back(RenderDepthTruth(session, bands, side, times));
   return pair;
 }
 

@@ -297,6 +297,7 @@ void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Mat
   begin.clearValueCount = 2;
   begin.pClearValues = clears;
   vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+  vkCmdSetScissor(cmd, 0, 1, &begin.renderArea);
   if (background) {
     // Behind everything: no depth test or write, the aircraft draw over it.
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, target.background_pipeline);
@@ -377,7 +378,7 @@ LinearImage SceneRenderer::RenderColor(const Camera& camera, double near_m, cons
 
 LinearImage SceneRenderer::RenderExposure(const Camera& camera, double near_m,
                                           const std::vector<std::vector<RenderItem>>& items_at_times,
-                                          const MsaaPlan& plan, ViewTimings* timings) {
+                                          const MsaaPlan& plan, ViewTimings* timings, const PixelRect* rows) {
   const size_t instants = items_at_times.size(), jitters = plan.offsets_px.size();
   const size_t passes = std::max(instants, jitters);
   if (instants == 0 || passes % instants != 0 || passes % jitters != 0) {
@@ -406,6 +407,11 @@ LinearImage SceneRenderer::RenderExposure(const Camera& camera, double near_m,
   for (const ViewArea& v : views) {
     area = {std::min(area.x0, v.rect.x0), std::min(area.y0, v.rect.y0), std::max(area.x1, v.rect.x1),
             std::max(area.y1, v.rect.y1)};
+  }
+  if (rows) {
+    area.y0 = std::max(area.y0, rows->y0);
+    area.y1 = std::min(area.y1, rows->y1);
+    if (area.empty()) return out;  // no geometry in these rows: background alone
   }
   std::vector<float> sum(static_cast<size_t>(area.width()) * area.height() * 4, 0.0f);  // linear RGBA
   const float weight = 1.0f / static_cast<float>(passes);
@@ -442,27 +448,30 @@ LinearImage SceneRenderer::RenderExposure(const Camera& camera, double near_m,
 }
 
 GroundTruthImage SceneRenderer::RenderGroundTruth(const Camera& camera, double near_m,
-                                                  const std::vector<RenderItem>& items) {
-  Target& target = TargetFor(1, true);
-  const Eigen::Matrix4d clip_from_tanker =
-      ClipFromCamera(camera.intrinsics, near_m) * camera.tanker_from_camera.inverse().matrix();
-  const PixelRect full{0, 0, width_, height_};
-  std::optional<BackgroundPush> background;
-  if (options_.background.enabled()) background = BackgroundFor(camera);
-  context_.SubmitAndWait([&](VkCommandBuffer cmd) {
-    Record(cmd, target, clip_from_tanker, items, true, full, background ? &*background : nullptr);
-  });
-  ReadBack(target, full);
+                                                  const std::vector<RenderItem>& items, const PixelRect* rows) {
   GroundTruthImage out;
   out.width = width_;
   out.height = height_;
   const size_t pixels = static_cast<size_t>(width_) * height_;
-  out.depth_m.resize(pixels);
-  out.object_id.resize(pixels);
+  out.depth_m.assign(pixels, 0.0f);
+  out.object_id.assign(pixels, 0);
+  const PixelRect area = rows ? PixelRect{0, std::max(rows->y0, 0), width_, std::min(rows->y1, height_)}
+                              : PixelRect{0, 0, width_, height_};
+  if (area.empty()) return out;
+  Target& target = TargetFor(1, true);
+  const Eigen::Matrix4d clip_from_tanker =
+      ClipFromCamera(camera.intrinsics, near_m) * camera.tanker_from_camera.inverse().matrix();
+  std::optional<BackgroundPush> background;
+  if (options_.background.enabled()) background = BackgroundFor(camera);
+  context_.SubmitAndWait([&](VkCommandBuffer cmd) {
+    Record(cmd, target, clip_from_tanker, items, true, area, background ? &*background : nullptr);
+  });
+  ReadBack(target, area);
   const float* data = static_cast<const float*>(readback_.mapped());
-  for (size_t i = 0; i < pixels; ++i) {
-    out.depth_m[i] = data[i * 2];
-    out.object_id[i] = static_cast<uint8_t>(std::lround(data[i * 2 + 1]));
+  const size_t first = static_cast<size_t>(area.y0) * width_, count = static_cast<size_t>(area.height()) * width_;
+  for (size_t i = 0; i < count; ++i) {
+    out.depth_m[first + i] = data[i * 2];
+    out.object_id[first + i] = static_cast<uint8_t>(std::lround(data[i * 2 + 1]));
   }
   return out;
 }

@@ -19,6 +19,7 @@
 #include "aar/renderer/pair_writer.h"
 #include "aar/renderer/projection.h"
 #include "aar/renderer/render_session.h"
+#include "aar/renderer/rolling_shutter.h"
 #include "aar/stereo_calibration.h"
 #include "aar/text.h"
 
@@ -67,8 +68,8 @@ RenderJobResult RunPairs(const RenderJobOptions& options, RenderSession& session
     if (SidecarVerified(options.output, SidecarPath(options.output, kind, index), settings)) {
       ++result.skipped;
     } else {
-      auto [exposure, items, sidecar] = make_pair(index);
-      writer.Push(RenderPair(session, exposure, items, dir, std::move(sidecar), depth_sides, result.times));
+      auto [bands, sidecar] = make_pair(index);
+      writer.Push(RenderPair(session, bands, dir, std::move(sidecar), depth_sides, result.times));
       ++result.rendered;
     }
     if (options.progress) progress.Advance();
@@ -155,8 +156,9 @@ struct FlightPathManifest {
 };
 
 // frames of the manifest: how every frame of the flight path is rendered.
-nlohmann::json FlightPathFramesJson(const RenderJobOptions& options, const MsaaPlan& plan,
+nlohmann::json FlightPathFramesJson(const RenderJobOptions& options, const RenderSession& session,
                                     const std::vector<FlightSample>& path, const FlightPathModels& models) {
+  const MsaaPlan& plan = session.plan;
   nlohmann::json frames = {{"count", path.size()},
                            {"msaa", MsaaJson(plan)},
                            {"depth", options.depth || options.depth_right},
@@ -170,6 +172,8 @@ nlohmann::json FlightPathFramesJson(const RenderJobOptions& options, const MsaaP
   if (models.with_boom) frames["boom"] = BoomJson(path.front().boom.has_value());
   // Absent for an instant exposure and without propellers, likewise.
   if (options.shutter_ms > 0.0) frames["exposure"] = ExposureJson(options.shutter_ms, options.time_samples);
+  // Absent for a global shutter, likewise.
+  if (session.left_readout) frames["rolling_shutter"] = RollingShutterJson(session.readout_ms, options.readout_bands);
   if (models.with_propellers) frames["propellers"] = PropellersJson(options.propeller_rpm);
   return frames;
 }
@@ -198,7 +202,7 @@ FlightPathManifest FlightPathManifestHeader(const RenderJobOptions& options, con
     header["inputs"]["propeller_model"] = {{"source", options.propeller_model.filename().string()},
                                            {"sha256", Sha256File(options.propeller_model)}};
   }
-  header["frames"] = FlightPathFramesJson(options, session.plan, path, models);
+  header["frames"] = FlightPathFramesJson(options, session, path, models);
   return manifest;
 }
 
@@ -221,13 +225,13 @@ struct FlightPathFrames {
   const FlightPathModelIndices& models;
   bool with_boom;
   const std::vector<double>& exposure_offsets;
+  const std::vector<double>& band_offsets;  // a rolling shutter's bands (rolling_shutter.h); {0}: a global shutter
   const std::vector<Eigen::Vector3d>& receiver_points;
   const std::string& settings;
 };
 
-// Frame i of the flight path: the scene over its exposure, the scene at its instant, its sidecar.
-std::tuple<std::vector<std::vector<RenderItem>>, std::vector<RenderItem>, FrameSidecar> FlightPathPair(
-    const FlightPathFrames& frames, size_t i) {
+// Frame i of the flight path: each readout band's scene over its exposure and at its instant, its sidecar.
+std::tuple<std::vector<BandScene>, FrameSidecar> FlightPathPair(const FlightPathFrames& frames, size_t i) {
   const std::vector<FlightSample>& path = frames.path;
   const Eigen::Isometry3d tanker_from_receiver = IsometryFromPose(path[i].tanker_from_receiver);
   // The scene at instant k of the exposure: tanker, receiver (instant k), boom.
@@ -244,12 +248,20 @@ std::tuple<std::vector<std::vector<RenderItem>>, std::vector<RenderItem>, FrameS
     items.insert(items.end(), boom_items.begin(), boom_items.end());
     return items;
   };
-  std::vector<std::vector<RenderItem>> exposure;
-  for (const auto& receiver_items :
-       ReceiverOverExposure(frames.models.receiver, path, i, frames.exposure_offsets, frames.options.propeller_rpm))
-    exposure.push_back(scene_with(receiver_items));
-  const std::vector<RenderItem> items = scene_with(
-      ReceiverItems(frames.models.receiver, tanker_from_receiver, frames.options.propeller_rpm, path[i].time_s));
+  std::vector<BandScene> bands;
+  for (double band_offset : frames.band_offsets) {
+    BandScene band;
+    std::vector<double> offsets = frames.exposure_offsets;
+    for (double& o : offsets) o += band_offset;
+    for (const auto& receiver_items :
+         ReceiverOverExposure(frames.models.receiver, path, i, offsets, frames.options.propeller_rpm))
+      band.exposure.push_back(scene_with(receiver_items));
+    band.instant = scene_with(
+        band_offset == 0.0
+            ? ReceiverItems(frames.models.receiver, tanker_from_receiver, frames.options.propeller_rpm, path[i].time_s)
+            : ReceiverOverExposure(frames.models.receiver, path, i, {band_offset}, frames.options.propeller_rpm)[0]);
+    bands.push_back(std::move(band));
+  }
   const StereoRig& rig = frames.rig;
   s.kind = "frame";
   s.settings_sha256 = frames.settings;
@@ -261,7 +273,7 @@ std::tuple<std::vector<std::vector<RenderItem>>, std::vector<RenderItem>, FrameS
   s.in_view_left = InViewFraction(frames.receiver_points, rig.left, tanker_from_receiver);
   s.in_view_right = InViewFraction(frames.receiver_points, rig.right, tanker_from_receiver);
   s.rig = rig;
-  return std::make_tuple(exposure, items, s);
+  return std::make_tuple(std::move(bands), s);
 }
 
 }  // namespace
@@ -284,6 +296,10 @@ void RenderJobOptions::Check() const {
   if (time_samples < 2 || time_samples > 64 || (time_samples & (time_samples - 1)) != 0) {
     throw Error("--time-samples " + std::to_string(time_samples) + ": expected a power of two from 2 to 64");
   }
+  if (readout_bands < 1 || readout_bands > kMaxReadoutBands) {
+    throw Error("--readout-bands " + std::to_string(readout_bands) + ": expected 1 to " +
+                std::to_string(kMaxReadoutBands));
+  }
 }
 
 RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
@@ -292,12 +308,15 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   const StereoCalibration ideal = IdealCalibrationOf(rig, options.rig);
   const std::vector<FlightSample> path = ReadFlightPath(options.flight_path);
   options.selection.CheckWithin(path.size(), options.flight_path.string());
-  if (options.shutter_ms > 0.0) CheckTimesIncrease(path, options.flight_path.string());
+  const double readout_ms = rig.sensor ? rig.sensor->readout_ms : 0.0;
+  if (options.shutter_ms > 0.0 || readout_ms > 0.0) CheckTimesIncrease(path, options.flight_path.string());
   const FlightPathModels models = LoadFlightPathModels(options, path);
   CheckDatasetFolderWritable(options.output);
   RenderSession session = OpenRenderSession(options, rig, options.background);
   const FlightPathModelIndices indices = AddFlightPathModels(session, models);
   const std::vector<double> exposure_offsets = ExposureOffsets(options.shutter_ms, options.time_samples);
+  const std::vector<double> band_offsets =
+      readout_ms > 0.0 ? ReadoutBandOffsets(readout_ms, options.readout_bands) : std::vector<double>{0.0};
   const std::vector<Eigen::Vector3d> receiver_points = models.receiver.AllPositions();
 
   EnsureWritableDirectory(options.output);
@@ -308,8 +327,8 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
     WriteCalibration(options.output / kIdealCalibrationName, ideal);
   });
 
-  const FlightPathFrames frames{options,         rig,     path, indices, models.with_boom, exposure_offsets,
-                                receiver_points, settings};
+  const FlightPathFrames frames{
+      options, rig, path, indices, models.with_boom, exposure_offsets, band_offsets, receiver_points, settings};
   return RunPairs(options, session, path.size(), "frame", settings, "render x" + std::to_string(options.msaa),
                   [&](size_t i) { return FlightPathPair(frames, i); });
 }
@@ -362,7 +381,8 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
                     s.in_view_right = InViewFraction(board_points, rig.right, tanker_from_board);
                     s.rig = rig;
                     s.board = spec;
-                    return std::make_tuple(std::vector<std::vector<RenderItem>>{items}, items, s);
+                    // The boards do not move: one band, whatever the shutter.
+                    return std::make_tuple(std::vector<BandScene>{{{items}, items}}, s);
                   });
 }
 

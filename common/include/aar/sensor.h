@@ -31,6 +31,11 @@ struct SensorParams {
   int black_level_dn = 64;       ///< ADC offset added to every pixel, so dark noise is not clipped [DN]
   double blur_sigma_px = 0.0;    ///< optical blur: standard deviation of the Gaussian PSF [px]; 0 = none
   BayerPattern bayer = BayerPattern::kNone;  ///< colour filter array
+  /// Rolling shutter: time from the first row's exposure to the last row's
+  /// [ms], rows read out evenly, top to bottom; 0 = a global shutter (every
+  /// row at once). The renderer exposes each row at its own instant
+  /// (renderer/rolling_shutter.h).
+  double readout_ms = 0.0;
 
   /// System gain K [DN/e-]: the full well maps to the ADC's largest code,
   /// (2^adc_bits - 1 - black_level_dn) / full_well_e.
@@ -42,7 +47,8 @@ struct SensorParams {
 /// Reads a rig's "sensor" object: every field is optional (the defaults
 /// above), an unknown field is refused; `where` names the file.
 SensorParams SensorFromJson(const nlohmann::json& j, const std::string& where);
-/// Every field (JSON object keys are sorted).
+/// Every field (JSON object keys are sorted); readout_ms only for a rolling
+/// shutter, so a global-shutter sensor's record keeps the keys it always had.
 nlohmann::json SensorToJson(const SensorParams& sensor);
 
 }  // namespace aar

@@ -15,6 +15,7 @@
 #include "aar/renderer/lens_distortion.h"
 #include "aar/renderer/msaa.h"
 #include "aar/renderer/pair_writer.h"
+#include "aar/renderer/rolling_shutter.h"
 #include "aar/renderer/scene_renderer.h"
 #include "aar/renderer/sensor_model.h"
 #include "aar/renderer/stereo_render_job.h"
@@ -36,10 +37,17 @@ struct RenderSession {
   std::optional<LensResampler> left_lens, right_lens;
   // The rig's sensor, its fixed patterns drawn once for the whole run; null without one.
   std::shared_ptr<const SensorModel> sensor;
+  // A rolling shutter (the sensor's readout_ms > 0): the readout time and
+  // the band of every rendered pixel per camera; empty for a global shutter.
+  double readout_ms = 0.0;
+  std::optional<ReadoutBands> left_readout, right_readout;
 
   const Camera& RigCamera(const std::string& side) const { return side == "left" ? rig.left : rig.right; }
   const std::optional<LensResampler>& Lens(const std::string& side) const {
     return side == "left" ? left_lens : right_lens;
+  }
+  const std::optional<ReadoutBands>& Readout(const std::string& side) const {
+    return side == "left" ? left_readout : right_readout;
   }
   /// The camera the scene is rendered with: the rig's, or its pinhole stand-in.
   Camera RenderCamera(const std::string& side) const {
@@ -50,18 +58,26 @@ struct RenderSession {
 };
 
 /// Opens the device (options.device), plans MSAA (options.msaa), makes the
-/// lens resamplers and the sensor model of `rig`, and the scene renderer at
-/// the size the scene is rendered with.
+/// lens resamplers, the sensor model and the readout bands
+/// (options.readout_bands) of `rig`, and the scene renderer at the size the
+/// scene is rendered with.
 RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig& rig,
                                 const BackgroundOptions& background);
 
+/// The scene of one readout band of a rolling shutter, or of the whole frame
+/// (a global shutter, or what does not move): at each instant of its
+/// exposure (one: no motion), and at its own instant, which the truth shows.
+struct BandScene {
+  std::vector<std::vector<RenderItem>> exposure;
+  std::vector<RenderItem> instant;
+};
+
 /// Renders one stereo pair (and the truth of `depth_sides`) for the
-/// PairWriter to encode and write. The colour is exposed over `exposure`
-/// (the scene at each instant; one instant: no motion), the truth is of
-/// `items` (the sample's own time).
-RenderedPair RenderPair(RenderSession& session, const std::vector<std::vector<RenderItem>>& exposure,
-                        const std::vector<RenderItem>& items, const std::string& dir, FrameSidecar sidecar,
-                        const std::vector<std::string>& depth_sides, RenderStageTimes& times);
+/// PairWriter to encode and write: from one band, or from the session's
+/// readout bands, each pixel from the band it is in (rolling_shutter.h;
+/// aar::Error when their counts differ).
+RenderedPair RenderPair(RenderSession& session, const std::vector<BandScene>& bands, const std::string& dir,
+                        FrameSidecar sidecar, const std::vector<std::string>& depth_sides, RenderStageTimes& times);
 
 /// The manifest's description of an MSAA plan (frames.msaa, calib.msaa).
 nlohmann::json MsaaJson(const MsaaPlan& plan);

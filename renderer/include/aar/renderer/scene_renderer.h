@@ -72,11 +72,16 @@ class SceneRenderer {
   /// of the smaller, else aar::Error): pass i draws the scene at instant
   /// i % T with the MSAA plan's jitter i % plan.passes, and all are averaged,
   /// so every instant and every jitter carries the same weight. One instant
-  /// is RenderColor, pass for pass.
+  /// is RenderColor, pass for pass. With `rows`, only the image's rows
+  /// [rows->y0, rows->y1) are rendered (a rolling shutter's band,
+  /// rolling_shutter.h): elsewhere the image is background.
   LinearImage RenderExposure(const Camera& camera, double near_m,
                              const std::vector<std::vector<RenderItem>>& items_at_times, const MsaaPlan& plan,
-                             ViewTimings* timings = nullptr);
-  GroundTruthImage RenderGroundTruth(const Camera& camera, double near_m, const std::vector<RenderItem>& items);
+                             ViewTimings* timings = nullptr, const PixelRect* rows = nullptr);
+  /// Depth and object ids, one sample per pixel; with `rows`, of those rows
+  /// only (elsewhere no surface, id 0).
+  GroundTruthImage RenderGroundTruth(const Camera& camera, double near_m, const std::vector<RenderItem>& items,
+                                     const PixelRect* rows = nullptr);
 
  private:
   struct Target;

@@ -40,6 +40,10 @@ struct RenderJobOptions {
   double shutter_ms = 0.0;
   /// Instants the exposure is sampled at (a power of two, 2 to 64), with shutter_ms > 0.
   int time_samples = 16;
+  /// A rolling shutter's frame (the rig's sensor.readout_ms > 0) is rendered
+  /// in this many bands of rows, each at its own instant (rolling_shutter.h):
+  /// a row's instant is off by at most readout / (2 bands); 1 to 1024.
+  int readout_bands = 32;
   std::filesystem::path flight_path = DataFile("flightpaths/conops.csv");  ///< flight path (render job)
   int msaa = 16;                                                           ///< 1, 4, 8, 16 or 32 samples per pixel
   float anisotropy = 1.0f;   ///< texture anisotropic filtering (1 = trilinear)
