@@ -8,7 +8,6 @@
 #include "aar/file_io.h"
 #include "aar/progress.h"
 #include "aar/renderer/image_encode.h"
-#include "aar/renderer/sensor_model.h"
 
 namespace aar {
 namespace {
@@ -34,15 +33,16 @@ void WriteDepthTruth(const std::filesystem::path& dataset, const std::string& pr
             sidecar);
 }
 
-// The PNG of one view: its radiance through its lens, if it has one, as the
-// pair's sensor records it, if it has one.
+// The PNG of one view: its radiance after each of its effects in turn.
 std::string EncodeView(const RenderedPair& pair, size_t view, PngStrategy color_png) {
-  std::optional<LinearImage> resampled;
-  if (pair.lens[view] != nullptr) resampled = pair.lens[view]->ResampleColor(pair.color[view]);
-  const LinearImage& radiance = resampled ? *resampled : pair.color[view];
-  if (!pair.sensor) return EncodePng(ToSrgb8(radiance), color_png);
   const SensorExposure exposure{pair.sidecar.kind == "calib" ? 1u : 0u, pair.sidecar.index, view};
-  return EncodePng(ToSrgb8(pair.sensor->Apply(radiance, exposure)), color_png);
+  const LinearImage* radiance = &pair.color[view];
+  LinearImage effected;
+  for (const ViewEffect* effect : pair.effects[view]) {
+    effected = effect->Apply(*radiance, exposure);
+    radiance = &effected;
+  }
+  return EncodePng(ToSrgb8(*radiance), color_png);
 }
 
 }  // namespace

@@ -170,12 +170,11 @@ RenderedPair RenderPair(RenderSession& session, const std::vector<BandScene>& ba
   RenderedPair pair;
   pair.dir = dir;
   pair.sidecar = std::move(sidecar);
-  pair.sensor = session.sensor;
   for (size_t view = 0; view < pair.color.size(); ++view) {
     const std::string side = view == 0 ? "left" : "right";
     pair.color[view] = RenderViewColor(session, bands, side, times);
-    // Resampled through the lens on the writer's threads, beside the next pair's rendering.
-    if (const std::optional<LensResampler>& lens = session.Lens(side)) pair.lens[view] = &*lens;
+    // Applied on the writer's threads, beside the next pair's rendering.
+    pair.effects[view] = session.ViewEffects(side);
   }
   for (const std::string& side : depth_sides) pair.truth.push_back(RenderDepthTruth(session, bands, side, times));
   return pair;

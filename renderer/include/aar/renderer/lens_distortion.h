@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "aar/image.h"
+#include "aar/renderer/view_effect.h"
 #include "aar/rig.h"
 
 namespace aar {
@@ -26,7 +27,7 @@ struct PixelMargin {
 inline constexpr int kLanczosLobes = 3;         ///< Lanczos-a filter, a = 3 (support +-3 source pixels at scale 1)
 inline constexpr int kMaxPinholeSidePx = 8192;  ///< largest pinhole render side (keeps the Vulkan images bounded)
 
-class LensResampler {
+class LensResampler : public ViewEffect {
  public:
   /// Inverse map of one distorted camera. `margin` must cover the filter
   /// footprint of every output pixel (RequiredMargin); larger is fine, so
@@ -43,6 +44,8 @@ class LensResampler {
 
   /// The distorted view of a pinhole render (pinhole() sized).
   LinearImage ResampleColor(const LinearImage& pinhole) const;
+  /// The view effect: ResampleColor (the exposure does not matter).
+  LinearImage Apply(const LinearImage& pinhole, const SensorExposure&) const override { return ResampleColor(pinhole); }
   /// Depth and ids of the nearest pinhole sample, never blended.
   GroundTruthImage ResampleTruth(const GroundTruthImage& pinhole) const;
 

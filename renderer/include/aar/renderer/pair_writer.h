@@ -21,10 +21,7 @@
 
 #include "aar/dataset.h"
 #include "aar/renderer/image_encode.h"
-#include "aar/renderer/lens_distortion.h"
-#include "aar/renderer/scene_renderer.h"
-#include "aar/renderer/sensor_model.h"
-#include "aar/sensor.h"
+#include "aar/renderer/view_effect.h"
 
 namespace aar {
 
@@ -41,13 +38,11 @@ struct RenderedPair {
   FrameSidecar sidecar;              ///< its files are added as they are written
   std::array<LinearImage, 2> color;  ///< linear colour of the views, left then right
   std::vector<ViewTruth> truth;      ///< depth truth of the cameras asked for (none by default)
-  /// The rig's sensor: applied to each view (sensor_model.h) before its sRGB
-  /// encoding, never to the truth; none: the rendered radiance is encoded.
-  std::shared_ptr<const SensorModel> sensor;
-  /// The views' lenses (lens_distortion.h): `color` is then the pinhole
-  /// render, resampled through the lens before the sensor; null: a pinhole
-  /// camera. The render job's session owns them and outlives its writer.
-  std::array<const LensResampler*, 2> lens{};
+  /// Each view's effects (view_effect.h: the lens's resampling, the sensor),
+  /// applied in order before its sRGB encoding, never to the truth; none:
+  /// the rendered radiance is encoded. The render job's session owns them
+  /// and outlives its writer.
+  std::array<std::vector<const ViewEffect*>, 2> effects;
 };
 
 /// Time spent per stage [ms], summed over the pairs written.
@@ -67,7 +62,7 @@ struct PairWriterOptions {
   PngStrategy color_png = PngStrategy::kDefault;
 };
 
-/// Resamples through the lens, applies the sensor and encodes (the two views' PNGs at once), hashes and writes one pair
+/// Applies each view's effects and encodes (the two views' PNGs at once), hashes and writes one pair
 /// into `dataset`, the images in order and the sidecar last; the worker's job.
 void WriteRenderedPair(const std::filesystem::path& dataset, RenderedPair pair, PngStrategy color_png,
                        PairWriteTimes& times);

@@ -49,6 +49,15 @@ struct RenderSession {
   const std::optional<ReadoutBands>& Readout(const std::string& side) const {
     return side == "left" ? left_readout : right_readout;
   }
+  /// The effects a view's radiance passes through before its encoding, in
+  /// order (view_effect.h): the lens's resampling, then the sensor. A new
+  /// image effect is made in OpenRenderSession and listed here.
+  std::vector<const ViewEffect*> ViewEffects(const std::string& side) const {
+    std::vector<const ViewEffect*> effects;
+    if (Lens(side)) effects.push_back(&*Lens(side));
+    if (sensor) effects.push_back(sensor.get());
+    return effects;
+  }
   /// The camera the scene is rendered with: the rig's, or its pinhole stand-in.
   Camera RenderCamera(const std::string& side) const {
     Camera camera = RigCamera(side);

@@ -13,18 +13,10 @@
 #include <utility>
 
 #include "aar/image.h"
+#include "aar/renderer/view_effect.h"
 #include "aar/sensor.h"
 
 namespace aar {
-
-/// Which exposure an image is: with the seed, the counter the noise is drawn
-/// from. The temporal noise depends on all three, the fixed pattern on the
-/// camera alone.
-struct SensorExposure {
-  uint64_t sequence = 0;  ///< 0: flight-path frames, 1: calibration pairs
-  uint64_t index = 0;     ///< frame or calibration-pair index
-  uint64_t camera = 0;    ///< 0: left, 1: right
-};
 
 /// The image `radiance` as the sensor records it, normalised back to
 /// radiance: a pixel's value is (DN - black level) / (K * exposure_e), so a
@@ -39,14 +31,14 @@ LinearImage ApplySensorModel(const LinearImage& radiance, const SensorParams& se
 /// under a mosaic) is drawn once, on first use, and kept, so each exposure
 /// draws only its temporal noise. Apply gives the bytes ApplySensorModel
 /// gives; safe to call from several threads.
-class SensorModel {
+class SensorModel : public ViewEffect {
  public:
   explicit SensorModel(SensorParams params);
-  ~SensorModel();
+  ~SensorModel() override;
   SensorModel(const SensorModel&) = delete;
   SensorModel& operator=(const SensorModel&) = delete;
 
-  LinearImage Apply(const LinearImage& radiance, const SensorExposure& exposure) const;
+  LinearImage Apply(const LinearImage& radiance, const SensorExposure& exposure) const override;
   const SensorParams& params() const { return params_; }
 
  private:
