@@ -62,7 +62,9 @@ std::string Sensor(const SensorParams& sensor) {
     << ",\n             \"prnu\": " << Num(sensor.prnu) << ", \"dsnu_e\": " << Num(sensor.dsnu_e)
     << ", \"adc_bits\": " << sensor.adc_bits << ", \"black_level_dn\": " << sensor.black_level_dn
     << ",\n             \"blur_sigma_px\": " << Num(sensor.blur_sigma_px) << ", \"bayer\": \""
-    << (sensor.bayer == BayerPattern::kRggb ? "rggb" : "none") << "\"},\n";
+    << (sensor.bayer == BayerPattern::kRggb ? "rggb" : "none") << "\"";
+  if (sensor.readout_ms > 0.0) o << ", \"readout_ms\": " << Num(sensor.readout_ms);
+  o << "},\n";
   return o.str();
 }
 
@@ -152,6 +154,20 @@ RigPreset NoisyRig() {
       "mosaic, docs/rendering.md. Positions in the tanker body frame (x forward, y left, z up, metres). Rotations are "
       "tanker_from_camera: columns are the camera's x (right), y (down), z (optical axis) expressed in the tanker "
       "frame.";
+  return r;
+}
+
+RigPreset RollingRig() {
+  RigPreset r = NoisyRig();
+  // The same sensor read out row by row over 30 ms: a CMOS rolling shutter of
+  // the order machine-vision data sheets give for a megapixel sensor at
+  // 30 frames/s (about 40 us a row at 768 rows).
+  r.sensor->readout_ms = 30.0;
+  r.description =
+      "The cameras and sensor of scenes/rig-noisy.json with a rolling shutter: rows exposed top to bottom over a 30 ms "
+      "readout (sensor.readout_ms), docs/rendering.md. Positions in the tanker body frame (x forward, y left, z up, "
+      "metres). Rotations are tanker_from_camera: columns are the camera's x (right), y (down), z (optical axis) "
+      "expressed in the tanker frame.";
   return r;
 }
 

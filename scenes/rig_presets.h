@@ -51,6 +51,9 @@ RigPreset DistortedRig();
 /// scenes/rig-noisy.json (issue 9, item 4): scenes/rig.json's cameras with
 /// an image sensor: noise, fixed pattern, optical blur and an RGGB mosaic.
 RigPreset NoisyRig();
+/// scenes/rig-rolling.json: rig-noisy.json's cameras and sensor with a
+/// rolling shutter (a 30 ms readout).
+RigPreset RollingRig();
 
 /// scenes/rig-1080p.json and scenes/rig-2160p.json: scenes/rig.json's
 /// cameras at 1920 x 1080 and 3840 x 2160, the same vertical field of view

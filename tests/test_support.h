@@ -62,7 +62,7 @@ inline std::filesystem::path BinaryPath(const std::string& relative) {
 /// The rigs committed in scenes/, for tests instantiated over each of them.
 inline const auto kCommittedRigs =
     ::testing::Values("scenes/rig.json", "scenes/rig-thesis.json", "scenes/rig-distorted.json", "scenes/rig-noisy.json",
-                      "scenes/rig-1080p.json", "scenes/rig-2160p.json");
+                      "scenes/rig-rolling.json", "scenes/rig-1080p.json", "scenes/rig-2160p.json");
 
 /// A parameterised test's name for a committed rig: its file stem, '-' as '_'.
 inline std::string CommittedRigName(const ::testing::TestParamInfo<const char*>& info) {
