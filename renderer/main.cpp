@@ -94,6 +94,7 @@ struct JobFlags {
   std::string far_boards = FarBoardsText(aar::RenderJobOptions{}.far_boards_m);
   std::optional<double> sun_azimuth_deg, sun_elevation_deg, latitude_deg, longitude_deg, heading_deg;
   std::string sun_time;
+  std::string shading = aar::ToString(aar::RenderJobOptions{}.shading);
 };
 
 // The sun the flags give: an azimuth and elevation, or a time and place;
@@ -206,6 +207,10 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
                    "bands of rows a rolling shutter's frame is rendered in, each at its own instant (a rig whose "
                    "sensor.readout_ms > 0; a row's instant is off by at most readout / (2 bands)), 1 to 1024")
         ->capture_default_str();
+    cmd.add_option("--shading", f.shading,
+                   "how the aircraft are lit: matte (Lambertian, the default) or pbr (the models' glTF "
+                   "metallic-roughness materials, with the sun's and the sky's specular reflection)")
+        ->capture_default_str();
     cmd.add_flag("--depth", f.job.depth,
                  "also write left-camera ground-truth depth (EXR, metres), object ids and receiver silhouette");
     cmd.add_flag("--depth-right", f.job.depth_right, "also write the same for the right camera (implies --depth)");
@@ -254,6 +259,7 @@ int RunJob(int argc, char** argv, bool calib) {
   flags.job.selection = aar::ParseFrameSelection(flags.frames, flags.shard);
   flags.job.background.kind = aar::ParseBackgroundKind(flags.background);
   if (!calib) flags.job.background.sun = ResolveSun(flags);
+  if (!calib) flags.job.shading = aar::ParseShading(flags.shading);
   if (calib) flags.job.far_boards_m = ParseFarBoards(flags.far_boards);
   const aar::RenderJobResult result =
       calib ? aar::RenderCalibrationJob(flags.job) : aar::RenderFlightPathJob(flags.job);
@@ -309,9 +315,16 @@ int RunBench(int argc, char** argv) {
   app.add_option("--backgrounds", backgrounds, "backgrounds to time side by side (flat, sky, terrain, clouds)")
       ->delimiter(',')
       ->capture_default_str();
+  app.remove_option(app.get_option("--shading"));
+  std::vector<std::string> shading_names = {"matte"};
+  app.add_option("--shadings", shading_names, "shadings to time side by side (matte, pbr)")
+      ->delimiter(',')
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   std::vector<aar::BackgroundKind> kinds;
   for (const std::string& name : backgrounds) kinds.push_back(aar::ParseBackgroundKind(name));
+  std::vector<aar::Shading> shadings;
+  for (const std::string& name : shading_names) shadings.push_back(aar::ParseShading(name));
   flags.job.background.sun = ResolveSun(flags);
   if (app.count("--msaa") > 0) {  // one level: the same as --levels with it alone
     if (app.count("--levels") > 0) throw aar::Error("--msaa and --levels: give one of them");
@@ -326,22 +339,26 @@ int RunBench(int argc, char** argv) {
   const std::filesystem::path root =
       std::filesystem::temp_directory_path() / ("aar-render-bench-" + std::to_string(::getpid()));
   std::printf(
-      "| MSAA | background | method | pairs | render ms | readback ms | encode ms | write ms | wait ms | wall ms | "
-      "pairs/s |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "| MSAA | background | shading | method | pairs | render ms | readback ms | encode ms | write ms | wait ms | "
+      "wall ms | pairs/s |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int level : levels) {
     for (aar::BackgroundKind kind : kinds) {
-      job.msaa = level;
-      job.background.kind = kind;
-      job.output = root / ("x" + std::to_string(level) + "-" + aar::BackgroundName(kind));
-      std::filesystem::remove_all(job.output);
-      const aar::RenderJobResult r = aar::RenderFlightPathJob(job);
-      const double n = static_cast<double>(r.rendered);
-      std::printf("| x%d | %s | %s | %zu | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.2f |\n", level,
-                  aar::BackgroundName(kind), r.msaa_method.c_str(), r.rendered, r.times.render_ms / n,
-                  r.times.readback_ms / n, r.times.encode_ms / n, r.times.write_ms / n, r.times.wait_ms / n,
-                  r.times.wall_ms / n, 1000.0 * n / r.times.wall_ms);
-      std::fflush(stdout);
+      for (aar::Shading shading : shadings) {
+        job.msaa = level;
+        job.background.kind = kind;
+        job.shading = shading;
+        job.output =
+            root / ("x" + std::to_string(level) + "-" + aar::BackgroundName(kind) + "-" + aar::ToString(shading));
+        std::filesystem::remove_all(job.output);
+        const aar::RenderJobResult r = aar::RenderFlightPathJob(job);
+        const double n = static_cast<double>(r.rendered);
+        std::printf("| x%d | %s | %s | %s | %zu | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.2f |\n", level,
+                    aar::BackgroundName(kind), aar::ToString(shading).c_str(), r.msaa_method.c_str(), r.rendered,
+                    r.times.render_ms / n, r.times.readback_ms / n, r.times.encode_ms / n, r.times.write_ms / n,
+                    r.times.wait_ms / n, r.times.wall_ms / n, 1000.0 * n / r.times.wall_ms);
+        std::fflush(stdout);
+      }
     }
   }
   std::filesystem::remove_all(root);

@@ -176,7 +176,7 @@ SceneModel BuildC12(const C12Options& options, C12Info* info) {
   RgbImage atlas(options.atlas_size, options.atlas_size, options.colour_levels);
   SceneModel scene;
   scene.name = "c12";
-  scene.materials.push_back(Material{"c12_livery", {1.0, 1.0, 1.0, 1.0}, true});
+  scene.materials.push_back(Material{"c12_livery", {1.0, 1.0, 1.0, 1.0}, true, 0.0, 0.35});
   for (std::size_t i = 0; i < parts.size(); ++i) {
     Bake(atlas, layout.rects[i], kGutter, parts[i].patch.periodic_v, parts[i].paint);
     scene.nodes.push_back(Node{parts[i].name, {Primitive{Tessellate(parts[i].patch, &layout.rects[i]), 0}}});

@@ -11,7 +11,7 @@ namespace aar::scenes {
 namespace {
 
 const Material kBlack{"propeller_black", {0.035, 0.035, 0.04, 1.0}, false};
-const Material kTip{"propeller_tip", {0.80, 0.78, 0.72, 1.0}, false};
+const Material kTip{"propeller_tip", {0.80, 0.78, 0.72, 1.0}, false, 0.0, 0.5};
 
 constexpr double kHubAftOfSpinnerTipM = 0.30;
 constexpr double kRootRadiusM = 0.17;  // inside the spinner (radius 0.20 m there)

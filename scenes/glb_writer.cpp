@@ -10,8 +10,6 @@
 namespace aar::scenes {
 namespace {
 
-constexpr double kRoughness = 0.8;
-
 /// Appends raw bytes to buffer 0 as a new buffer view (4-byte aligned); returns its index.
 int AddBufferView(tinygltf::Model& model, const void* data, std::size_t size, int target) {
   auto& bytes = model.buffers[0].data;
@@ -122,8 +120,11 @@ void WriteGlb(const SceneModel& scene, const std::filesystem::path& path) {
     tinygltf::Material out;
     out.name = m.name;
     out.pbrMetallicRoughness.baseColorFactor = {m.base_color.begin(), m.base_color.end()};
-    out.pbrMetallicRoughness.metallicFactor = 0.0;
-    out.pbrMetallicRoughness.roughnessFactor = kRoughness;
+    if (!(m.metallic >= 0.0 && m.metallic <= 1.0) || !(m.roughness >= 0.0 && m.roughness <= 1.0)) {
+      throw Error("WriteGlb: material " + m.name + " has metallic or roughness outside [0, 1]");
+    }
+    out.pbrMetallicRoughness.metallicFactor = m.metallic;
+    out.pbrMetallicRoughness.roughnessFactor = m.roughness;
     if (m.textured) out.pbrMetallicRoughness.baseColorTexture.index = 0;
     out.doubleSided = true;
     model.materials.push_back(out);

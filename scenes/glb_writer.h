@@ -12,11 +12,14 @@
 
 namespace aar::scenes {
 
-/// glTF metallic-roughness material: metallic 0, roughness 0.8, double sided.
+/// glTF metallic-roughness material, double sided (docs/scenes.md,
+/// "Materials", gives each model's values and where they come from).
 struct Material {
   std::string name;
   std::array<double, 4> base_color{1.0, 1.0, 1.0, 1.0};  ///< baseColorFactor
   bool textured = false;                                 ///< uses the scene's texture as baseColorTexture
+  double metallic = 0.0;                                 ///< metallicFactor: 0 dielectric (paint), 1 bare metal
+  double roughness = 0.8;                                ///< roughnessFactor (perceptual): 0 mirror, 0.8 matte
 };
 
 struct Primitive {

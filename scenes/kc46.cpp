@@ -179,7 +179,7 @@ SceneModel BuildKc46(RigClearance* clearance) {
   const Body fuselage_body = Fuselage();
   SceneModel scene;
   scene.name = "kc46";
-  scene.materials.push_back(Material{"kc46_grey", {0.60, 0.62, 0.64, 1.0}, false});
+  scene.materials.push_back(Material{"kc46_grey", {0.60, 0.62, 0.64, 1.0}, false, 0.0, 0.7});
   auto add = [&scene](const char* name, const Patch& patch) {
     scene.nodes.push_back(Node{name, {Primitive{Tessellate(patch, nullptr), 0}}});
   };

@@ -9,8 +9,8 @@
 namespace aar::scenes {
 namespace {
 
-const Material kBoomGrey{"kc46_boom_grey", {0.55, 0.57, 0.60, 1.0}, false};
-const Material kNozzleDark{"boom_nozzle", {0.30, 0.30, 0.32, 1.0}, false};
+const Material kBoomGrey{"kc46_boom_grey", {0.55, 0.57, 0.60, 1.0}, false, 0.0, 0.7};
+const Material kNozzleDark{"boom_nozzle", {0.30, 0.30, 0.32, 1.0}, false, 1.0, 0.4};
 
 /// A round body along -x from `start_m` to `end_m` aft of the hinge, radius
 /// r(s) from the table (s relative to start; 0 at both ends closes it).

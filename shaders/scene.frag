@@ -1,14 +1,20 @@
 #version 450
 // Lambertian shading under a fixed sun, in linear colour. The render target is
 // a floating-point image; sRGB encoding happens after MSAA composition.
+// Compiled a second time with AAR_PBR (scene_pbr_frag, --shading pbr): glTF
+// metallic-roughness shading, the same diffuse light plus the sun's and the
+// sky's specular reflection (docs/rendering.md, "Physically based shading").
 
 layout(location = 0) in vec3 in_normal_in_tanker;
 layout(location = 1) in vec2 in_uv;
 layout(location = 2) in float in_depth_m;
+#ifdef AAR_PBR
+layout(location = 3) in vec3 in_to_camera_in_tanker;
+#endif
 
 layout(push_constant) uniform PushConstants {
   mat4 clip_from_object;
-  vec4 tanker_from_object_rows[3];
+  vec4 tanker_from_object_rows[3];  // w of rows 0 and 1: metallic and roughness (AAR_PBR)
   vec4 base_color_factor;
 } pc;
 
@@ -26,6 +32,36 @@ const vec3 kSunDirection = vec3(kSunX, kSunY, kSunZ);
 const float kSunIntensity = 0.75;
 const float kAmbient = 0.35;
 
+#ifdef AAR_PBR
+const float kPi = 3.14159265358979;
+// The sky's radiance in direction w, in the units of the diffuse term: the
+// matte model's sky light kAmbient (0.75 + 0.25 n.z) is the irradiance / pi
+// of a sky whose radiance is linear in w.z, L(w) = A + B w.z, since a
+// Lambertian surface then returns A + (2/3) B n.z.
+const float kSkyA = kAmbient * 0.75;
+const float kSkyB = kAmbient * 0.25 * 1.5;
+float SkyRadiance(vec3 w) { return kSkyA + kSkyB * clamp(w.z, -1.0, 1.0); }
+
+// GGX (Trowbridge-Reitz) distribution, alpha = roughness^2 (glTF 2.0
+// specification, appendix B).
+float DistributionGgx(float n_dot_h, float alpha) {
+  float a2 = alpha * alpha;
+  float d = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+  return a2 / (kPi * d * d);
+}
+// Height-correlated Smith visibility, G / (4 n.l n.v) (glTF 2.0, appendix B).
+float VisibilitySmithGgx(float n_dot_l, float n_dot_v, float alpha) {
+  float a2 = alpha * alpha;
+  float gv = n_dot_l * sqrt(n_dot_v * n_dot_v * (1.0 - a2) + a2);
+  float gl = n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - a2) + a2);
+  float g = gv + gl;
+  return g > 0.0 ? 0.5 / g : 0.0;
+}
+vec3 FresnelSchlick(vec3 f0, vec3 f90, float cos_theta) {
+  return f0 + (f90 - f0) * pow(clamp(1.0 - cos_theta, 0.0, 1.0), 5.0);
+}
+#endif
+
 void main() {
   vec3 n = normalize(in_normal_in_tanker);
   if (!gl_FrontFacing) n = -n;
@@ -33,5 +69,27 @@ void main() {
   float sky = kAmbient * (0.75 + 0.25 * n.z);
   float light = sky + kSunIntensity * max(dot(n, kSunDirection), 0.0);
   vec4 albedo = pc.base_color_factor * texture(base_color_texture, in_uv);
+#ifdef AAR_PBR
+  float metallic = pc.tanker_from_object_rows[0].w;
+  float roughness = clamp(pc.tanker_from_object_rows[1].w, 0.03, 1.0);  // a point sun needs a finite lobe
+  float alpha = roughness * roughness;
+  vec3 v = normalize(in_to_camera_in_tanker);
+  float n_dot_v = max(dot(n, v), 1e-4);
+  vec3 f0 = mix(vec3(0.04), albedo.rgb, metallic);  // 4 %: a dielectric of refractive index 1.5
+  // The sun, a point source whose irradiance is kSunIntensity pi (the
+  // Lambertian term above is albedo / pi times it).
+  float n_dot_l = max(dot(n, kSunDirection), 0.0);
+  vec3 h = normalize(kSunDirection + v);
+  vec3 f_sun = FresnelSchlick(f0, vec3(1.0), max(dot(v, h), 0.0));
+  vec3 sun_specular = f_sun * DistributionGgx(max(dot(n, h), 0.0), alpha) *
+                      VisibilitySmithGgx(n_dot_l, n_dot_v, alpha) * (kSunIntensity * kPi) * n_dot_l;
+  // The sky, mirrored about the normal; a rough surface's lobe reaches less
+  // of the grazing Fresnel rise (Fdez-Aguera's roughness-dependent f90).
+  vec3 f_sky = FresnelSchlick(f0, max(vec3(1.0 - roughness), f0), n_dot_v);
+  vec3 sky_specular = f_sky * SkyRadiance(reflect(-v, n));
+  vec3 diffuse = (vec3(1.0) - f_sky) * (1.0 - metallic) * albedo.rgb * light;
+  out_color = vec4(diffuse + sun_specular + sky_specular, 1.0);
+#else
   out_color = vec4(albedo.rgb * light, 1.0);
+#endif
 }

@@ -138,7 +138,7 @@ LinearImage RenderViewColor(RenderSession& session, const std::vector<BandScene>
 }  // namespace
 
 RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig& rig,
-                                const BackgroundOptions& background) {
+                                const BackgroundOptions& background, Shading shading) {
   RenderSession s;
   s.rig = rig;
   if (rig.sensor) s.sensor = std::make_shared<const SensorModel>(*rig.sensor);
@@ -149,6 +149,7 @@ RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig
   SceneRendererOptions render_options;
   render_options.max_anisotropy = options.anisotropy;
   render_options.background = background;
+  render_options.shading = shading;
   OpenLenses(s);
   if (rig.sensor && rig.sensor->readout_ms > 0.0) {
     s.readout_ms = rig.sensor->readout_ms;

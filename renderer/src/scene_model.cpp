@@ -105,6 +105,12 @@ void ApplyMaterial(const tinygltf::Model& model, const tinygltf::Primitive& prim
   for (int c = 0; c < 4 && c < static_cast<int>(pbr.baseColorFactor.size()); ++c) {
     p.base_color_factor[c] = static_cast<float>(pbr.baseColorFactor[c]);
   }
+  p.metallic = static_cast<float>(pbr.metallicFactor);
+  p.roughness = static_cast<float>(pbr.roughnessFactor);
+  if (!(p.metallic >= 0.0f && p.metallic <= 1.0f) || !(p.roughness >= 0.0f && p.roughness <= 1.0f)) {
+    throw Error(where + ": material '" + model.materials[prim.material].name +
+                "' has metallicFactor or roughnessFactor outside [0, 1]");
+  }
   const int texture = pbr.baseColorTexture.index;
   if (texture < 0 || texture >= static_cast<int>(model.textures.size())) return;
   const int source = model.textures[texture].source;

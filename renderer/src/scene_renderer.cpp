@@ -21,6 +21,7 @@
 #include "spirv/background_vert.h"
 #include "spirv/depth_frag.h"
 #include "spirv/scene_frag.h"
+#include "spirv/scene_pbr_frag.h"
 #include "spirv/scene_vert.h"
 
 namespace aar {
@@ -34,7 +35,7 @@ constexpr uint32_t kMaxTextures = 64;
 // member for member (std430 offsets 0, 64, 112; no padding).
 struct PushConstants {
   glm::mat4 clip_from_object;            // column-major, as Eigen's
-  glm::vec4 tanker_from_object_rows[3];  // rotation rows (xyz; w unused, 0)
+  glm::vec4 tanker_from_object_rows[3];  // rotation rows (xyz); w: metallic, roughness, 0 (Shading::kPbr; else 0)
   glm::vec4 base_color_factor;           // linear RGBA; .a carries the object id in the ground-truth pass
 };
 static_assert(offsetof(PushConstants, tanker_from_object_rows) == 64 &&
@@ -51,6 +52,7 @@ struct SceneRenderer::GpuModel {
     int32_t vertex_offset = 0;
     int texture_set = 0;
     std::array<float, 4> base_color_factor{};
+    float metallic = 0.0f, roughness = 0.0f;
   };
   GpuBuffer vertices;
   GpuBuffer indices;
@@ -115,7 +117,9 @@ SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, cons
   VkCheck(vkCreateSampler(device, &sampler, nullptr, &sampler_), "vkCreateSampler");
 
   vert_ = CreateShaderModule(device, kSpirv_scene_vert, sizeof(kSpirv_scene_vert));
-  frag_ = CreateShaderModule(device, kSpirv_scene_frag, sizeof(kSpirv_scene_frag));
+  frag_ = options_.shading == Shading::kPbr
+              ? CreateShaderModule(device, kSpirv_scene_pbr_frag, sizeof(kSpirv_scene_pbr_frag))
+              : CreateShaderModule(device, kSpirv_scene_frag, sizeof(kSpirv_scene_frag));
   depth_frag_ = CreateShaderModule(device, kSpirv_depth_frag, sizeof(kSpirv_depth_frag));
 
   readback_ = GpuBuffer(context_, static_cast<VkDeviceSize>(width_) * height_ * 8, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
@@ -229,6 +233,8 @@ int SceneRenderer::AddModel(const SceneModel& model) {
       draw.vertex_offset = static_cast<int32_t>(v);
       draw.texture_set = p.texture >= 0 ? first_set + p.texture : 0;
       draw.base_color_factor = p.base_color_factor;
+      draw.metallic = p.metallic;
+      draw.roughness = p.roughness;
       gpu->draws.push_back(draw);
       v += p.vertices.size();
       i += p.indices.size();
@@ -325,6 +331,10 @@ void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Mat
     for (const GpuModel::Draw& draw : model.draws) {
       pc.base_color_factor = glm::make_vec4(draw.base_color_factor.data());
       if (ground_truth) pc.base_color_factor.a = item.object_id;
+      if (options_.shading == Shading::kPbr && !ground_truth) {
+        pc.tanker_from_object_rows[0].w = draw.metallic;
+        pc.tanker_from_object_rows[1].w = draw.roughness;
+      }
       vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_layout_, 0, 1,
                               &texture_sets_[draw.texture_set], 0, nullptr);
       vkCmdPushConstants(cmd, pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,

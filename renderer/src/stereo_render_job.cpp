@@ -175,6 +175,8 @@ nlohmann::json FlightPathFramesJson(const RenderJobOptions& options, const Rende
   // Absent for a global shutter, likewise.
   if (session.left_readout) frames["rolling_shutter"] = RollingShutterJson(session.readout_ms, options.readout_bands);
   if (models.with_propellers) frames["propellers"] = PropellersJson(options.propeller_rpm);
+  // Absent for matte shading, likewise.
+  if (options.shading != Shading::kMatte) frames["shading"] = ToString(options.shading);
   return frames;
 }
 
@@ -312,7 +314,7 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   if (options.shutter_ms > 0.0 || readout_ms > 0.0) CheckTimesIncrease(path, options.flight_path.string());
   const FlightPathModels models = LoadFlightPathModels(options, path);
   CheckDatasetFolderWritable(options.output);
-  RenderSession session = OpenRenderSession(options, rig, options.background);
+  RenderSession session = OpenRenderSession(options, rig, options.background, options.shading);
   const FlightPathModelIndices indices = AddFlightPathModels(session, models);
   const std::vector<double> exposure_offsets = ExposureOffsets(options.shutter_ms, options.time_samples);
   const std::vector<double> band_offsets =
@@ -344,7 +346,7 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   const std::vector<Pose> poses = CalibrationBoardPoses(rig, pose_options);
   options.selection.CheckWithin(poses.size(), "calibration board poses");
   CheckDatasetFolderWritable(options.output);
-  RenderSession session = OpenRenderSession(options, rig, BackgroundOptions{});
+  RenderSession session = OpenRenderSession(options, rig, BackgroundOptions{}, Shading::kMatte);
   const int board_index = session.renderer->AddModel(board);
   const std::vector<Eigen::Vector3d> board_points = board.AllPositions();
   const BoardSpec spec;

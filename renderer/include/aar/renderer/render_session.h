@@ -69,9 +69,9 @@ struct RenderSession {
 /// Opens the device (options.device), plans MSAA (options.msaa), makes the
 /// lens resamplers, the sensor model and the readout bands
 /// (options.readout_bands) of `rig`, and the scene renderer at the size the
-/// scene is rendered with.
+/// scene is rendered with, over `background` and lit with `shading`.
 RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig& rig,
-                                const BackgroundOptions& background);
+                                const BackgroundOptions& background, Shading shading);
 
 /// The scene of one readout band of a rolling shutter, or of the whole frame
 /// (a global shutter, or what does not move): at each instant of its

@@ -30,6 +30,8 @@ struct Primitive {
   std::vector<uint32_t> indices;
   std::array<float, 4> base_color_factor = {1, 1, 1, 1};  ///< linear RGBA
   int texture = -1;                                       ///< index into SceneModel::textures, -1 for none
+  float metallic = 1.0f;   ///< glTF metallicFactor (its default 1 when the material omits it)
+  float roughness = 1.0f;  ///< glTF roughnessFactor (perceptual roughness; default 1)
 };
 
 struct SceneModel {

@@ -19,6 +19,7 @@
 #include "aar/renderer/msaa.h"
 #include "aar/renderer/projection.h"
 #include "aar/renderer/scene_model.h"
+#include "aar/renderer/shading.h"
 #include "aar/renderer/vulkan_context.h"
 #include "aar/rig.h"
 
@@ -52,6 +53,7 @@ struct SceneRendererOptions {
   /// (geometry_rect.h); the same images, slower: the reference the rectangle
   /// is tested against.
   bool full_frame = false;
+  Shading shading = Shading::kMatte;
 };
 
 class SceneRenderer {
@@ -120,7 +122,7 @@ class SceneRenderer {
   VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
   VkSampler sampler_ = VK_NULL_HANDLE;
   VkShaderModule vert_ = VK_NULL_HANDLE;
-  VkShaderModule frag_ = VK_NULL_HANDLE;
+  VkShaderModule frag_ = VK_NULL_HANDLE;  // scene.frag, or scene_pbr_frag with Shading::kPbr
   VkShaderModule depth_frag_ = VK_NULL_HANDLE;
   VkShaderModule background_vert_ = VK_NULL_HANDLE;
   VkShaderModule background_frag_ = VK_NULL_HANDLE;

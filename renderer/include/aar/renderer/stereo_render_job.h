@@ -12,6 +12,7 @@
 #include "aar/data_path.h"
 #include "aar/frame_selection.h"
 #include "aar/renderer/background.h"
+#include "aar/renderer/shading.h"
 
 namespace aar {
 
@@ -44,6 +45,10 @@ struct RenderJobOptions {
   /// in this many bands of rows, each at its own instant (rolling_shutter.h):
   /// a row's instant is off by at most readout / (2 bands); 1 to 1024.
   int readout_bands = 32;
+  /// How the aircraft are lit (render job; the calibration boards stay
+  /// matte): kMatte, or kPbr for the models' glTF metallic-roughness
+  /// materials with the sun's and the sky's specular reflection.
+  Shading shading = Shading::kMatte;
   std::filesystem::path flight_path = DataFile("flightpaths/conops.csv");  ///< flight path (render job)
   int msaa = 16;                                                           ///< 1, 4, 8, 16 or 32 samples per pixel
   float anisotropy = 1.0f;   ///< texture anisotropic filtering (1 = trilinear)
