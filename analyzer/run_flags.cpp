@@ -107,6 +107,9 @@ void RunFlags::AddStereo(CLI::App* cmd) {
   cmd->add_option("--speckle-window", speckle_window,
                   "speckle filter: connected disparity regions smaller than this are removed [px] (100; 0: off)");
   cmd->add_option("--halo", halo, "remove the block-matching halo around the silhouette (default preset: true)");
+  cmd->add_option("--clipped", clipped,
+                  "drop matches whose window reaches a clipped (white, 255) pixel in either image: sun glints, a "
+                  "saturated sensor (default: false)");
   cmd->add_option("--halo-radius", halo_radius,
                   "halo removal: valid pixels this close to an invalid pixel or a jump go [px] (block / 2 + 1)");
   cmd->add_option("--rounding", rounding, "subtract StereoBM's 15/512 px rounding bias (default preset: true)");
@@ -228,9 +231,11 @@ void RunFlags::Resolve() {
   if (block_size) {
     f.disparity.block_size = *block_size;
     f.halo.radius_px = aar::HaloRadiusPx(f.disparity);
+    f.clipped.radius_px = aar::HaloRadiusPx(f.disparity);
     f.subpixel.half_window_px = *block_size / 2;
   }
   if (halo) f.remove_halo = *halo;
+  if (clipped) f.remove_clipped = *clipped;
   if (halo_radius) f.halo.radius_px = *halo_radius;
   if (rounding) f.remove_rounding_bias = *rounding;
   if (subpixel) f.refine_subpixel = *subpixel;

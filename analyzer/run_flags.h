@@ -43,7 +43,7 @@ struct RunFlags {
   std::optional<double> direct_max_motion_px, max_correspondence_m, disparity_offset_px, disparity_noise_px,
       gate_sigmas, model_pull_scale_m;
   std::optional<size_t> keep_one_in, target_points, model_queries;
-  std::optional<bool> halo, subpixel, rounding, widen, balance, full_surface, noise_bias;
+  std::optional<bool> halo, clipped, subpixel, rounding, widen, balance, full_surface, noise_bias;
   bool truth_cloud = false, track = false, mask_boom = false, no_mask_boom = false, mask_propellers = false,
        no_mask_propellers = false;
   double truth_cloud_noise_px = 0.0;

@@ -122,6 +122,9 @@ DisparityMap FrameAnalyzer::Match(const cv::Mat& rect_left, const cv::Mat& rect_
   const auto start = std::chrono::steady_clock::now();
   DisparityMap disparity = ComputeDisparity(rect_left, rect_right, disparity_options);
   if (options_.remove_halo) RemoveHalo(disparity.disparity16, disparity.invalid_value16, options_.halo);
+  if (options_.remove_clipped) {
+    RemoveClippedMatches(disparity.disparity16, disparity.invalid_value16, rect_left, rect_right, options_.clipped);
+  }
   if (boom != nullptr)
     BoomMasker::RemoveDisparities(disparity.disparity16, disparity.invalid_value16, region.tl(), *boom);
   r.times.disparity_ms += MillisecondsSince(start);

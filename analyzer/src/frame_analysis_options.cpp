@@ -50,6 +50,7 @@ Preset ParsePreset(const std::string& text) {
 FrameAnalysisOptions FrameAnalysisOptions::ForPreset(Preset preset) {
   FrameAnalysisOptions o;
   o.halo.radius_px = HaloRadiusPx(o.disparity);
+  o.clipped.radius_px = HaloRadiusPx(o.disparity);
   if (preset == Preset::kThesis) {
     o.remove_halo = false;
     o.remove_rounding_bias = false;
@@ -70,6 +71,7 @@ FrameAnalysisOptions FrameAnalysisOptions::ForPreset(Preset preset) {
 void FrameAnalysisOptions::Check() const {
   disparity.Check();
   halo.Check();
+  clipped.Check();
   subpixel.Check();
   icp.Check();
   plane_icp.Check();

@@ -55,7 +55,7 @@ nlohmann::json RegistrationJson(const FrameAnalysisOptions& f) {
 
 nlohmann::json DisparityJson(const FrameAnalysisOptions& f) {
   const SubpixelOptions& s = f.subpixel;
-  return {
+  nlohmann::json json = {
       {"algorithm", f.disparity.algorithm == DisparityAlgorithm::kBlockMatching ? "bm" : "sgbm"},
       {"min_disparity", f.disparity.min_disparity},
       {"num_disparities", f.disparity.num_disparities},
@@ -85,6 +85,9 @@ nlohmann::json DisparityJson(const FrameAnalysisOptions& f) {
                                                              {"max_bias_px", f.window_bias.max_bias_px}}
                                             : nlohmann::json(false)},
       {"widen_search", f.widen_disparity_search}};
+  // Absent when off (the default), so earlier records read back the same.
+  if (f.remove_clipped) json["clipped"] = {{"level", f.clipped.clip_level}, {"radius_px", f.clipped.radius_px}};
+  return json;
 }
 
 nlohmann::json ReferenceJson(const ReferenceRequest& reference) {
@@ -169,6 +172,12 @@ void ReadDisparity(const Record& d, FrameAnalysisOptions& f) {
   f.remove_halo = halo_radius_px > 0;
   if (f.remove_halo) f.halo.radius_px = halo_radius_px;
   f.halo.max_jump_px = d.Get<double>("halo_max_jump_px");
+  f.remove_clipped = d.Has("clipped");
+  if (f.remove_clipped) {
+    const Record c = d.Object("clipped");
+    f.clipped.clip_level = c.Get<int>("level");
+    f.clipped.radius_px = c.Get<int>("radius_px");
+  }
   f.remove_rounding_bias = d.Get<double>("rounding_bias_px") != 0.0;
   const std::string subpixel = d.Get<std::string>("subpixel");
   if (subpixel != "none" && subpixel != "slanted" && subpixel != "symmetric") {

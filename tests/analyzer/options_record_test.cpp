@@ -45,6 +45,8 @@ TEST(OptionsRecord, EveryRecordReadsBackToTheSameRecord) {
          f.boom_mask.margin_px = 9;
          f.mask_propellers = true;
          f.propeller_mask.passes = 2;
+         f.remove_clipped = true;
+         f.clipped.radius_px = 6;
          f.register_truth_cloud = true;
          f.truth_cloud_noise_px = 0.12;
          f.subpixel.interpolation = SubpixelInterpolation::kCubicBSpline;

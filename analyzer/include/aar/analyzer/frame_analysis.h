@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "aar/analyzer/boom_mask.h"
+#include "aar/analyzer/clipped_pixels.h"
 #include "aar/analyzer/direct_stereo.h"
 #include "aar/analyzer/disparity.h"
 #include "aar/analyzer/disparity_cleaning.h"
@@ -65,6 +66,11 @@ struct FrameAnalysisOptions {
   /// is set from the block size (block_size / 2) by ForPreset and the CLI.
   bool remove_halo = true;
   HaloRemovalOptions halo;
+  /// Drop the matches whose window reaches a clipped (white) pixel in either
+  /// image (clipped_pixels.h: a sun glint, a saturated sensor); its radius
+  /// is set like the halo's. Off by default.
+  bool remove_clipped = false;
+  ClippedPixelOptions clipped;
   /// Subtract MatcherRoundingBiasPx(algorithm) (StereoBM: 15/512 px) from
   /// the matcher's disparities (reprojection.matcher_bias_px), on top of
   /// reprojection.disparity_offset_px.
