@@ -10,6 +10,8 @@
 // alias); depth, object ids and silhouettes take the nearest pinhole sample,
 // never blended. Pure CPU code, deterministic.
 
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -42,7 +44,11 @@ class LensResampler : public ViewEffect {
   /// focal lengths, image grown by the margin, principal point moved with it.
   const Intrinsics& pinhole() const { return pinhole_; }
 
-  /// The distorted view of a pinhole render (pinhole() sized).
+  /// The distorted view of a pinhole render (pinhole() sized). The last
+  /// render and its view are kept: the next one recomputes only the output
+  /// pixels whose filter footprint reaches a pinhole pixel that changed (the
+  /// background is the same from frame to frame), and copies the rest, the
+  /// same bytes a whole resampling gives.
   LinearImage ResampleColor(const LinearImage& pinhole) const;
   /// The view effect: ResampleColor (the exposure does not matter).
   LinearImage Apply(const LinearImage& pinhole, const SensorExposure&) const override { return ResampleColor(pinhole); }
@@ -57,6 +63,16 @@ class LensResampler : public ViewEffect {
   // (OpenCV pixel coordinates) and the filter footprint scale (>= 1) per axis.
   std::vector<double> source_x_, source_y_;
   std::vector<float> scale_x_, scale_y_;
+  double max_reach_y_ = 0.0;  // the filter's largest reach in rows [px]
+  // The last pinhole render and its resampled view (ResampleColor).
+  struct Cache {
+    std::mutex mutex;
+    LinearImage in, out;
+  };
+  std::unique_ptr<Cache> cache_ = std::make_unique<Cache>();
+
+  // Output pixel i of `in` into `out` (`run`: ResampleColor's runs of equal pixels).
+  void ResamplePixel(size_t i, const LinearImage& in, const std::vector<uint32_t>& run, LinearImage& out) const;
 };
 
 }  // namespace aar
