@@ -211,6 +211,9 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
                    "how the aircraft are lit: matte (Lambertian, the default) or pbr (the models' glTF "
                    "metallic-roughness materials, with the sun's and the sky's specular reflection)")
         ->capture_default_str();
+    cmd.add_flag("--shadows", f.job.shadows,
+                 "the sun's shadows on the receiver: what the tanker, the boom, the receiver and its propellers "
+                 "cast on it (a shadow map per instant; docs/rendering.md, \"Shadows\")");
     cmd.add_flag("--depth", f.job.depth,
                  "also write left-camera ground-truth depth (EXR, metres), object ids and receiver silhouette");
     cmd.add_flag("--depth-right", f.job.depth_right, "also write the same for the right camera (implies --depth)");
@@ -317,14 +320,25 @@ int RunBench(int argc, char** argv) {
       ->capture_default_str();
   app.remove_option(app.get_option("--shading"));
   std::vector<std::string> shading_names = {"matte"};
-  app.add_option("--shadings", shading_names, "shadings to time side by side (matte, pbr)")
+  app.add_option("--shadings", shading_names,
+                 "shadings to time side by side (matte, pbr; with +shadows, e.g. pbr+shadows, the sun's shadows too)")
       ->delimiter(',')
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   std::vector<aar::BackgroundKind> kinds;
   for (const std::string& name : backgrounds) kinds.push_back(aar::ParseBackgroundKind(name));
-  std::vector<aar::Shading> shadings;
-  for (const std::string& name : shading_names) shadings.push_back(aar::ParseShading(name));
+  struct Lighting {
+    std::string name;
+    aar::Shading shading;
+    bool shadows;
+  };
+  std::vector<Lighting> shadings;
+  for (const std::string& name : shading_names) {
+    const std::string suffix = "+shadows";
+    const bool shadows = name.size() > suffix.size() && name.ends_with(suffix);
+    shadings.push_back({name, aar::ParseShading(shadows ? name.substr(0, name.size() - suffix.size()) : name),
+                        shadows || flags.job.shadows});
+  }
   flags.job.background.sun = ResolveSun(flags);
   if (app.count("--msaa") > 0) {  // one level: the same as --levels with it alone
     if (app.count("--levels") > 0) throw aar::Error("--msaa and --levels: give one of them");
@@ -344,17 +358,17 @@ int RunBench(int argc, char** argv) {
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int level : levels) {
     for (aar::BackgroundKind kind : kinds) {
-      for (aar::Shading shading : shadings) {
+      for (const Lighting& lighting : shadings) {
         job.msaa = level;
         job.background.kind = kind;
-        job.shading = shading;
-        job.output =
-            root / ("x" + std::to_string(level) + "-" + aar::BackgroundName(kind) + "-" + aar::ToString(shading));
+        job.shading = lighting.shading;
+        job.shadows = lighting.shadows;
+        job.output = root / ("x" + std::to_string(level) + "-" + aar::BackgroundName(kind) + "-" + lighting.name);
         std::filesystem::remove_all(job.output);
         const aar::RenderJobResult r = aar::RenderFlightPathJob(job);
         const double n = static_cast<double>(r.rendered);
         std::printf("| x%d | %s | %s | %s | %zu | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.2f |\n", level,
-                    aar::BackgroundName(kind), aar::ToString(shading).c_str(), r.msaa_method.c_str(), r.rendered,
+                    aar::BackgroundName(kind), lighting.name.c_str(), r.msaa_method.c_str(), r.rendered,
                     r.times.render_ms / n, r.times.readback_ms / n, r.times.encode_ms / n, r.times.write_ms / n,
                     r.times.wait_ms / n, r.times.wall_ms / n, 1000.0 * n / r.times.wall_ms);
         std::fflush(stdout);

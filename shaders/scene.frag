@@ -4,11 +4,14 @@
 // Compiled a second time with AAR_PBR (scene_pbr_frag, --shading pbr): glTF
 // metallic-roughness shading, the same diffuse light plus the sun's and the
 // sky's specular reflection (docs/rendering.md, "Physically based shading").
+// With AAR_SHADOWS (scene_shadow_frag, scene_pbr_shadow_frag; --shadows) the
+// sun's light, diffuse and specular, is scaled by its visibility in the sun
+// camera's depth map (shadow_map.h; docs/rendering.md, "Shadows").
 
 layout(location = 0) in vec3 in_normal_in_tanker;
 layout(location = 1) in vec2 in_uv;
 layout(location = 2) in float in_depth_m;
-#ifdef AAR_PBR
+#if defined(AAR_PBR) || defined(AAR_SHADOWS)
 layout(location = 3) in vec3 in_to_camera_in_tanker;
 #endif
 
@@ -21,6 +24,48 @@ layout(push_constant) uniform PushConstants {
 layout(set = 0, binding = 0) uniform sampler2D base_color_texture;
 
 layout(location = 0) out vec4 out_color;
+
+#ifdef AAR_SHADOWS
+// The sun camera's depth along its axis [m] per texel, 0 where no surface
+// (shadow_map.h), and where it is; ShadowUniforms there, member for member.
+layout(set = 1, binding = 0) uniform sampler2D sun_depth_map;
+layout(set = 1, binding = 1) uniform ShadowUniforms {
+  mat4 sun_camera_from_tanker;
+  vec4 sun_intrinsics;             // fx, fy, cx, cy [px]
+  vec4 camera_centre_in_tanker;    // xyz: the viewing camera's centre [m]
+  vec4 map;                        // width, height [texels], depth bias: constant [m], per unit slope [texels]
+} shadow;
+
+// The share of the four texels around the point's projection (bilinear
+// weights, texel i's centre at pixel coordinate i) whose surface is not
+// nearer the sun than the point, less a bias for the map's sampling: the
+// sun's visibility, 0 in shadow, 1 in the sun, between at a shadow's edge.
+float SunVisibility(vec3 p_in_tanker, float n_dot_sun) {
+  vec3 q = (shadow.sun_camera_from_tanker * vec4(p_in_tanker, 1.0)).xyz;
+  if (q.z <= 0.0) return 1.0;
+  vec2 uv = shadow.sun_intrinsics.xy * q.xy / q.z + shadow.sun_intrinsics.zw;
+  vec2 base = floor(uv);
+  vec2 f = uv - base;
+  // A texel's depth was sampled up to 1.5 texels away on a surface whose
+  // depth changes by tan(angle to the sun) per texel's width.
+  float texel_m = q.z / shadow.sun_intrinsics.x;
+  float c = clamp(n_dot_sun, 0.05, 1.0);
+  float bias = shadow.map.z + shadow.map.w * texel_m * sqrt(1.0 - c * c) / c;
+  float visible = 0.0;
+  for (int j = 0; j < 2; ++j) {
+    for (int i = 0; i < 2; ++i) {
+      ivec2 t = ivec2(base) + ivec2(i, j);
+      float lit = 1.0;
+      if (t.x >= 0 && t.y >= 0 && t.x < int(shadow.map.x) && t.y < int(shadow.map.y)) {
+        float d = texelFetch(sun_depth_map, t, 0).r;
+        if (d > 0.0 && d < q.z - bias) lit = 0.0;
+      }
+      visible += lit * (i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y);
+    }
+  }
+  return visible;
+}
+#endif
 
 // The sun (unit vector, tanker frame), set per pipeline from
 // background.h's SunInLevel() and the tanker's attitude; the defaults are
@@ -67,7 +112,12 @@ void main() {
   if (!gl_FrontFacing) n = -n;
   // Sky light is brighter from above: a hemisphere term keeps bellies textured.
   float sky = kAmbient * (0.75 + 0.25 * n.z);
-  float light = sky + kSunIntensity * max(dot(n, kSunDirection), 0.0);
+#ifdef AAR_SHADOWS
+  float sun = SunVisibility(shadow.camera_centre_in_tanker.xyz - in_to_camera_in_tanker, dot(n, kSunDirection));
+#else
+  const float sun = 1.0;
+#endif
+  float light = sky + sun * kSunIntensity * max(dot(n, kSunDirection), 0.0);
   vec4 albedo = pc.base_color_factor * texture(base_color_texture, in_uv);
 #ifdef AAR_PBR
   float metallic = pc.tanker_from_object_rows[0].w;
@@ -82,7 +132,7 @@ void main() {
   vec3 h = normalize(kSunDirection + v);
   vec3 f_sun = FresnelSchlick(f0, vec3(1.0), max(dot(v, h), 0.0));
   vec3 sun_specular = f_sun * DistributionGgx(max(dot(n, h), 0.0), alpha) *
-                      VisibilitySmithGgx(n_dot_l, n_dot_v, alpha) * (kSunIntensity * kPi) * n_dot_l;
+                      VisibilitySmithGgx(n_dot_l, n_dot_v, alpha) * (sun * kSunIntensity * kPi) * n_dot_l;
   // The sky, mirrored about the normal; a rough surface's lobe reaches less
   // of the grazing Fresnel rise (Fdez-Aguera's roughness-dependent f90).
   vec3 f_sky = FresnelSchlick(f0, max(vec3(1.0 - roughness), f0), n_dot_v);

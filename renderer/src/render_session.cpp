@@ -138,7 +138,7 @@ LinearImage RenderViewColor(RenderSession& session, const std::vector<BandScene>
 }  // namespace
 
 RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig& rig,
-                                const BackgroundOptions& background, Shading shading) {
+                                const BackgroundOptions& background, Shading shading, bool shadows) {
   RenderSession s;
   s.rig = rig;
   if (rig.sensor) s.sensor = std::make_shared<const SensorModel>(*rig.sensor);
@@ -150,6 +150,8 @@ RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig
   render_options.max_anisotropy = options.anisotropy;
   render_options.background = background;
   render_options.shading = shading;
+  render_options.shadows = shadows;
+  render_options.shadow_object_id = kReceiverObjectId;
   OpenLenses(s);
   if (rig.sensor && rig.sensor->readout_ms > 0.0) {
     s.readout_ms = rig.sensor->readout_ms;

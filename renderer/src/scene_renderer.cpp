@@ -22,6 +22,8 @@
 #include "spirv/depth_frag.h"
 #include "spirv/scene_frag.h"
 #include "spirv/scene_pbr_frag.h"
+#include "spirv/scene_pbr_shadow_frag.h"
+#include "spirv/scene_shadow_frag.h"
 #include "spirv/scene_vert.h"
 
 namespace aar {
@@ -29,7 +31,6 @@ namespace {
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // linear colour, averaged by the resolve
 constexpr VkFormat kTruthFormat = VK_FORMAT_R32G32_SFLOAT;        // depth [m], object id
-constexpr uint32_t kMaxTextures = 64;
 
 // The push-constant block of shaders/scene.vert, scene.frag and depth.frag,
 // member for member (std430 offsets 0, 64, 112; no padding).
@@ -90,10 +91,13 @@ SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, cons
   set_info.pBindings = &binding;
   VkCheck(vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout_), "vkCreateDescriptorSetLayout");
 
+  // With shadows, set 1 holds the sun's depth map (shadow_map.h).
+  if (options_.shadows) shadows_ = std::make_unique<ShadowMaps>(context_, width_, height_);
+  const VkDescriptorSetLayout set_layouts[2] = {set_layout_, shadows_ ? shadows_->layout() : VK_NULL_HANDLE};
   VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(PushConstants)};
   VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  layout_info.setLayoutCount = 1;
-  layout_info.pSetLayouts = &set_layout_;
+  layout_info.setLayoutCount = shadows_ ? 2 : 1;
+  layout_info.pSetLayouts = set_layouts;
   layout_info.pushConstantRangeCount = 1;
   layout_info.pPushConstantRanges = &range;
   VkCheck(vkCreatePipelineLayout(device, &layout_info, nullptr, &pipeline_layout_), "vkCreatePipelineLayout");
@@ -117,9 +121,14 @@ SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, cons
   VkCheck(vkCreateSampler(device, &sampler, nullptr, &sampler_), "vkCreateSampler");
 
   vert_ = CreateShaderModule(device, kSpirv_scene_vert, sizeof(kSpirv_scene_vert));
-  frag_ = options_.shading == Shading::kPbr
-              ? CreateShaderModule(device, kSpirv_scene_pbr_frag, sizeof(kSpirv_scene_pbr_frag))
-              : CreateShaderModule(device, kSpirv_scene_frag, sizeof(kSpirv_scene_frag));
+  const bool pbr = options_.shading == Shading::kPbr;
+  if (options_.shadows) {
+    frag_ = pbr ? CreateShaderModule(device, kSpirv_scene_pbr_shadow_frag, sizeof(kSpirv_scene_pbr_shadow_frag))
+                : CreateShaderModule(device, kSpirv_scene_shadow_frag, sizeof(kSpirv_scene_shadow_frag));
+  } else {
+    frag_ = pbr ? CreateShaderModule(device, kSpirv_scene_pbr_frag, sizeof(kSpirv_scene_pbr_frag))
+                : CreateShaderModule(device, kSpirv_scene_frag, sizeof(kSpirv_scene_frag));
+  }
   depth_frag_ = CreateShaderModule(device, kSpirv_depth_frag, sizeof(kSpirv_depth_frag));
 
   readback_ = GpuBuffer(context_, static_cast<VkDeviceSize>(width_) * height_ * 8, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
@@ -132,6 +141,7 @@ SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, cons
   bg.Check();
   const Eigen::Vector3f sun = (LevelFromTanker(bg).transpose() * SunInLevel(bg)).cast<float>();
   sun_in_tanker_ = {sun.x(), sun.y(), sun.z()};
+  sun_direction_in_tanker_ = (LevelFromTanker(bg).transpose() * SunInLevel(bg)).normalized();
   if (bg.enabled()) {
     background_vert_ = CreateShaderModule(device, kSpirv_background_vert, sizeof(kSpirv_background_vert));
     background_frag_ = CreateShaderModule(device, kSpirv_background_frag, sizeof(kSpirv_background_frag));
@@ -148,6 +158,7 @@ SceneRenderer::~SceneRenderer() {
   VkDevice device = context_.device();
   vkDeviceWaitIdle(device);
   targets_.clear();
+  shadows_.reset();
   for (VkShaderModule m : {vert_, frag_, depth_frag_, background_vert_, background_frag_, background_truth_frag_}) {
     if (m) vkDestroyShaderModule(device, m, nullptr);
   }
@@ -155,55 +166,6 @@ SceneRenderer::~SceneRenderer() {
   if (descriptor_pool_) vkDestroyDescriptorPool(device, descriptor_pool_, nullptr);
   if (pipeline_layout_) vkDestroyPipelineLayout(device, pipeline_layout_, nullptr);
   if (set_layout_) vkDestroyDescriptorSetLayout(device, set_layout_, nullptr);
-}
-
-void SceneRenderer::UploadTexture(const TextureMips& mips) {
-  if (texture_sets_.size() >= kMaxTextures)
-    throw Error("too many textures (limit " + std::to_string(kMaxTextures) + ")");
-  VkDeviceSize total = 0;
-  for (const auto& level : mips.levels) total += level.size();
-  GpuBuffer staging(context_, total, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
-  std::vector<VkBufferImageCopy> copies;
-  VkDeviceSize offset = 0;
-  for (size_t l = 0; l < mips.levels.size(); ++l) {
-    std::memcpy(static_cast<uint8_t*>(staging.mapped()) + offset, mips.levels[l].data(), mips.levels[l].size());
-    VkBufferImageCopy copy{};
-    copy.bufferOffset = offset;
-    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, static_cast<uint32_t>(l), 0, 1};
-    copy.imageExtent = {static_cast<uint32_t>(mips.sizes[l][0]), static_cast<uint32_t>(mips.sizes[l][1]), 1};
-    copies.push_back(copy);
-    offset += mips.levels[l].size();
-  }
-  GpuImageDesc desc;
-  desc.width = mips.sizes[0][0];
-  desc.height = mips.sizes[0][1];
-  desc.mip_levels = static_cast<uint32_t>(mips.levels.size());
-  desc.format = VK_FORMAT_R8G8B8A8_SRGB;
-  desc.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-  GpuImage image(context_, desc);
-  context_.SubmitAndWait([&](VkCommandBuffer cmd) {
-    TransitionImage(cmd, image.image(), VK_IMAGE_ASPECT_COLOR_BIT, desc.mip_levels, VK_IMAGE_LAYOUT_UNDEFINED,
-                    VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
-    vkCmdCopyBufferToImage(cmd, staging.buffer(), image.image(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                           static_cast<uint32_t>(copies.size()), copies.data());
-    TransitionImage(cmd, image.image(), VK_IMAGE_ASPECT_COLOR_BIT, desc.mip_levels,
-                    VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-  });
-  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-  alloc.descriptorPool = descriptor_pool_;
-  alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &set_layout_;
-  VkDescriptorSet set = VK_NULL_HANDLE;
-  VkCheck(vkAllocateDescriptorSets(context_.device(), &alloc, &set), "vkAllocateDescriptorSets");
-  VkDescriptorImageInfo image_info{sampler_, image.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-  write.dstSet = set;
-  write.descriptorCount = 1;
-  write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-  write.pImageInfo = &image_info;
-  vkUpdateDescriptorSets(context_.device(), 1, &write, 0, nullptr);
-  textures_.push_back(std::move(image));
-  texture_sets_.push_back(set);
 }
 
 int SceneRenderer::AddModel(const SceneModel& model) {
@@ -241,6 +203,7 @@ int SceneRenderer::AddModel(const SceneModel& model) {
     }
   }
   gpu->geometry = MeshGeometryOf(model);
+  model_bounds_.push_back(gpu->geometry.bounds);
   models_.push_back(std::move(gpu));
   return static_cast<int>(models_.size()) - 1;
 }
@@ -286,7 +249,7 @@ SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) 
 
 void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Matrix4d& clip_from_tanker,
                            const std::vector<RenderItem>& items, bool ground_truth, const PixelRect& area,
-                           const BackgroundPush* background) {
+                           const BackgroundPush* background, VkDescriptorSet shadow_set) {
   VkClearValue clears[2]{};
   if (ground_truth || options_.background.enabled()) {
     // Truth: no surface. Colour over a background: transparent, so that the
@@ -314,6 +277,9 @@ void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Mat
     vkCmdDraw(cmd, 3, 1, 0, 0);
   }
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, target.pipeline);
+  if (shadow_set != VK_NULL_HANDLE) {
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_layout_, 1, 1, &shadow_set, 0, nullptr);
+  }
   for (const RenderItem& item : items) {
     if (item.model < 0 || item.model >= static_cast<int>(models_.size())) throw Error("render item: bad model index");
     const GpuModel& model = *models_[item.model];
@@ -423,6 +389,11 @@ LinearImage SceneRenderer::RenderExposure(const Camera& camera, double near_m,
     area.y1 = std::min(area.y1, rows->y1);
     if (area.empty()) return out;  // no geometry in these rows: background alone
   }
+  if (shadows_) {
+    const auto start = std::chrono::steady_clock::now();
+    for (size_t t = 0; t < instants; ++t) PrepareShadowMap(t, items_at_times[t]);
+    if (timings) timings->render_ms += MillisecondsSince(start);
+  }
   std::vector<float> sum(static_cast<size_t>(area.width()) * area.height() * 4, 0.0f);  // linear RGBA
   const float weight = 1.0f / static_cast<float>(passes);
   for (size_t pass = 0; pass < passes; ++pass) {
@@ -431,8 +402,10 @@ LinearImage SceneRenderer::RenderExposure(const Camera& camera, double near_m,
     const std::vector<RenderItem>& items = views[pass % instants].items;
     const Eigen::Matrix4d clip_from_tanker =
         ClipFromCamera(camera.intrinsics, near_m, jitter.x, jitter.y) * cam_from_tanker;
+    const VkDescriptorSet shadow =
+        shadows_ ? shadows_->Bind(pass % instants, camera.tanker_from_camera.translation()) : VK_NULL_HANDLE;
     context_.SubmitAndWait(
-        [&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, items, false, area, nullptr); });
+        [&](VkCommandBuffer cmd) { Record(cmd, target, clip_from_tanker, items, false, area, nullptr, shadow); });
     if (timings) timings->render_ms += MillisecondsSince(start);
     start = std::chrono::steady_clock::now();
     ReadBack(target, area);
@@ -459,6 +432,11 @@ LinearImage SceneRenderer::RenderExposure(const Camera& camera, double near_m,
 
 GroundTruthImage SceneRenderer::RenderGroundTruth(const Camera& camera, double near_m,
                                                   const std::vector<RenderItem>& items, const PixelRect* rows) {
+  return TruthPass(camera, near_m, items, rows, options_.background.enabled());
+}
+
+GroundTruthImage SceneRenderer::TruthPass(const Camera& camera, double near_m, const std::vector<RenderItem>& items,
+                                          const PixelRect* rows, bool with_background) {
   GroundTruthImage out;
   out.width = width_;
   out.height = height_;
@@ -472,7 +450,7 @@ GroundTruthImage SceneRenderer::RenderGroundTruth(const Camera& camera, double n
   const Eigen::Matrix4d clip_from_tanker =
       ClipFromCamera(camera.intrinsics, near_m) * camera.tanker_from_camera.inverse().matrix();
   std::optional<BackgroundPush> background;
-  if (options_.background.enabled()) background = BackgroundFor(camera);
+  if (with_background) background = BackgroundFor(camera);
   context_.SubmitAndWait([&](VkCommandBuffer cmd) {
     Record(cmd, target, clip_from_tanker, items, true, area, background ? &*background : nullptr);
   });

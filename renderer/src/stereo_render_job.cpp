@@ -20,6 +20,7 @@
 #include "aar/renderer/projection.h"
 #include "aar/renderer/render_session.h"
 #include "aar/renderer/rolling_shutter.h"
+#include "aar/renderer/shadow_map.h"
 #include "aar/stereo_calibration.h"
 #include "aar/text.h"
 
@@ -177,6 +178,10 @@ nlohmann::json FlightPathFramesJson(const RenderJobOptions& options, const Rende
   if (models.with_propellers) frames["propellers"] = PropellersJson(options.propeller_rpm);
   // Absent for matte shading, likewise.
   if (options.shading != Shading::kMatte) frames["shading"] = ToString(options.shading);
+  if (options.shadows) {
+    const Intrinsics& map = session.RenderCamera("left").intrinsics;
+    frames["shadows"] = ShadowsJson(map.width_px, map.height_px);
+  }
   return frames;
 }
 
@@ -314,7 +319,7 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   if (options.shutter_ms > 0.0 || readout_ms > 0.0) CheckTimesIncrease(path, options.flight_path.string());
   const FlightPathModels models = LoadFlightPathModels(options, path);
   CheckDatasetFolderWritable(options.output);
-  RenderSession session = OpenRenderSession(options, rig, options.background, options.shading);
+  RenderSession session = OpenRenderSession(options, rig, options.background, options.shading, options.shadows);
   const FlightPathModelIndices indices = AddFlightPathModels(session, models);
   const std::vector<double> exposure_offsets = ExposureOffsets(options.shutter_ms, options.time_samples);
   const std::vector<double> band_offsets =
@@ -346,7 +351,7 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   const std::vector<Pose> poses = CalibrationBoardPoses(rig, pose_options);
   options.selection.CheckWithin(poses.size(), "calibration board poses");
   CheckDatasetFolderWritable(options.output);
-  RenderSession session = OpenRenderSession(options, rig, BackgroundOptions{}, Shading::kMatte);
+  RenderSession session = OpenRenderSession(options, rig, BackgroundOptions{}, Shading::kMatte, false);
   const int board_index = session.renderer->AddModel(board);
   const std::vector<Eigen::Vector3d> board_points = board.AllPositions();
   const BoardSpec spec;

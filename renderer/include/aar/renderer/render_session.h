@@ -69,9 +69,10 @@ struct RenderSession {
 /// Opens the device (options.device), plans MSAA (options.msaa), makes the
 /// lens resamplers, the sensor model and the readout bands
 /// (options.readout_bands) of `rig`, and the scene renderer at the size the
-/// scene is rendered with, over `background` and lit with `shading`.
+/// scene is rendered with, over `background`, lit with `shading`, with the
+/// sun's shadows on the receiver or not.
 RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig& rig,
-                                const BackgroundOptions& background, Shading shading);
+                                const BackgroundOptions& background, Shading shading, bool shadows);
 
 /// The scene of one readout band of a rolling shutter, or of the whole frame
 /// (a global shutter, or what does not move): at each instant of its

@@ -20,6 +20,7 @@
 #include "aar/renderer/projection.h"
 #include "aar/renderer/scene_model.h"
 #include "aar/renderer/shading.h"
+#include "aar/renderer/shadow_map.h"
 #include "aar/renderer/vulkan_context.h"
 #include "aar/rig.h"
 
@@ -54,6 +55,11 @@ struct SceneRendererOptions {
   /// is tested against.
   bool full_frame = false;
   Shading shading = Shading::kMatte;
+  /// The sun's shadows (docs/rendering.md, "Shadows"): every item casts
+  /// them, over the part of the scene the sun camera frames, the items with
+  /// object id `shadow_object_id` (the receiver and its propellers).
+  bool shadows = false;
+  float shadow_object_id = 1.0f;
 };
 
 class SceneRenderer {
@@ -88,7 +94,8 @@ class SceneRenderer {
  private:
   struct Target;
   struct GpuModel;
-  void UploadTexture(const TextureMips& mips);
+  static constexpr uint32_t kMaxTextures = 64;
+  void UploadTexture(const TextureMips& mips);  ///< scene_textures.cpp
   Target& TargetFor(int samples, bool ground_truth);
   /// The push-constant block of shaders/background.frag, member for member.
   struct BackgroundPush {
@@ -103,7 +110,13 @@ class SceneRenderer {
   const std::vector<float>& BackgroundOf(const Camera& camera, ViewTimings* timings);
   void Record(VkCommandBuffer cmd, Target& target, const Eigen::Matrix4d& clip_from_tanker,
               const std::vector<RenderItem>& items, bool ground_truth, const PixelRect& area,
-              const BackgroundPush* background);
+              const BackgroundPush* background, VkDescriptorSet shadow_set = VK_NULL_HANDLE);
+  /// RenderGroundTruth, over the background or not.
+  GroundTruthImage TruthPass(const Camera& camera, double near_m, const std::vector<RenderItem>& items,
+                             const PixelRect* rows, bool with_background);
+  /// The sun's depth map of one instant's items into shadows_'s `slot`
+  /// (scene_shadow_pass.cpp), unless the slot holds these items' already.
+  void PrepareShadowMap(size_t slot, const std::vector<RenderItem>& items);
   void ReadBack(const Target& target, const PixelRect& area);
   /// The rectangle the MSAA passes render and the items that reach into it
   /// (all of them, over the whole frame, with options_.full_frame).
@@ -127,9 +140,13 @@ class SceneRenderer {
   VkShaderModule background_vert_ = VK_NULL_HANDLE;
   VkShaderModule background_frag_ = VK_NULL_HANDLE;
   VkShaderModule background_truth_frag_ = VK_NULL_HANDLE;
-  std::array<float, 3> sun_in_tanker_{};  ///< scene.frag's specialization constants
-  int background_texture_set_ = 0;        ///< the terrain or cloud texture (0: none)
+  std::array<float, 3> sun_in_tanker_{};                                ///< scene.frag's specialization constants
+  Eigen::Vector3d sun_direction_in_tanker_ = Eigen::Vector3d::UnitZ();  ///< the same, unit, in double
+  std::unique_ptr<ShadowMaps> shadows_;                                 ///< with options_.shadows
+  std::vector<std::vector<double>> shadow_keys_;  ///< per slot: the items its map shows (model, id, pose)
+  int background_texture_set_ = 0;                ///< the terrain or cloud texture (0: none)
   std::vector<std::unique_ptr<GpuModel>> models_;
+  std::vector<Eigen::AlignedBox3d> model_bounds_;  ///< per model, object frame
   std::vector<GpuImage> textures_;
   std::vector<VkDescriptorSet> texture_sets_;  ///< one per texture; [0] is a 1x1 white texture
   std::map<std::pair<int, bool>, std::unique_ptr<Target>> targets_;

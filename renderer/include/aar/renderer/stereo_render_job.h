@@ -49,6 +49,10 @@ struct RenderJobOptions {
   /// matte): kMatte, or kPbr for the models' glTF metallic-roughness
   /// materials with the sun's and the sky's specular reflection.
   Shading shading = Shading::kMatte;
+  /// The sun's shadows on the receiver (render job; docs/rendering.md,
+  /// "Shadows"): what every model (tanker, boom, receiver, propellers) casts
+  /// on the receiver and its propellers.
+  bool shadows = false;
   std::filesystem::path flight_path = DataFile("flightpaths/conops.csv");  ///< flight path (render job)
   int msaa = 16;                                                           ///< 1, 4, 8, 16 or 32 samples per pixel
   float anisotropy = 1.0f;   ///< texture anisotropic filtering (1 = trilinear)
