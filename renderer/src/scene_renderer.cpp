@@ -139,9 +139,9 @@ SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, cons
 
   const BackgroundOptions& bg = options_.background;
   bg.Check();
-  const Eigen::Vector3f sun = (LevelFromTanker(bg).transpose() * SunInLevel(bg)).cast<float>();
+  sun_direction_in_tanker_ = LevelFromTanker(bg).transpose() * SunInLevel(bg);
+  const Eigen::Vector3f sun = sun_direction_in_tanker_.cast<float>();
   sun_in_tanker_ = {sun.x(), sun.y(), sun.z()};
-  sun_direction_in_tanker_ = (LevelFromTanker(bg).transpose() * SunInLevel(bg)).normalized();
   if (bg.enabled()) {
     background_vert_ = CreateShaderModule(device, kSpirv_background_vert, sizeof(kSpirv_background_vert));
     background_frag_ = CreateShaderModule(device, kSpirv_background_frag, sizeof(kSpirv_background_frag));
@@ -203,10 +203,11 @@ int SceneRenderer::AddModel(const SceneModel& model) {
     }
   }
   gpu->geometry = MeshGeometryOf(model);
-  model_bounds_.push_back(gpu->geometry.bounds);
   models_.push_back(std::move(gpu));
   return static_cast<int>(models_.size()) - 1;
 }
+
+const MeshGeometry& SceneRenderer::GeometryOf(int model) const { return models_.at(model)->geometry; }
 
 SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) {
   auto& slot = targets_[{samples, ground_truth}];

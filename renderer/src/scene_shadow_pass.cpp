@@ -22,7 +22,7 @@ void SceneRenderer::PrepareShadowMap(size_t slot, const std::vector<RenderItem>&
   Eigen::AlignedBox3d framed;
   for (const RenderItem& item : items) {
     if (item.object_id != options_.shadow_object_id) continue;
-    const Eigen::AlignedBox3d& bounds = model_bounds_.at(static_cast<size_t>(item.model));
+    const Eigen::AlignedBox3d& bounds = GeometryOf(item.model).bounds;
     if (bounds.isEmpty()) continue;
     for (int corner = 0; corner < 8; ++corner) {
       framed.extend(item.tanker_from_object * bounds.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)));

@@ -97,6 +97,8 @@ class SceneRenderer {
   static constexpr uint32_t kMaxTextures = 64;
   void UploadTexture(const TextureMips& mips);  ///< scene_textures.cpp
   Target& TargetFor(int samples, bool ground_truth);
+  /// An uploaded model's triangles and bounding box (object frame).
+  const MeshGeometry& GeometryOf(int model) const;
   /// The push-constant block of shaders/background.frag, member for member.
   struct BackgroundPush {
     glm::vec4 level_from_pixel_rows[3];  // xyz: rows; w: camera level x, y [m], height above the ground [m]
@@ -140,13 +142,13 @@ class SceneRenderer {
   VkShaderModule background_vert_ = VK_NULL_HANDLE;
   VkShaderModule background_frag_ = VK_NULL_HANDLE;
   VkShaderModule background_truth_frag_ = VK_NULL_HANDLE;
-  std::array<float, 3> sun_in_tanker_{};                                ///< scene.frag's specialization constants
-  Eigen::Vector3d sun_direction_in_tanker_ = Eigen::Vector3d::UnitZ();  ///< the same, unit, in double
-  std::unique_ptr<ShadowMaps> shadows_;                                 ///< with options_.shadows
+  std::array<float, 3> sun_in_tanker_{};  ///< scene.frag's specialization constants
+  Eigen::Vector3d sun_direction_in_tanker_ =
+      Eigen::Vector3d::UnitZ();                   ///< the same in double (unit: a rotated unit vector)
+  std::unique_ptr<ShadowMaps> shadows_;           ///< with options_.shadows
   std::vector<std::vector<double>> shadow_keys_;  ///< per slot: the items its map shows (model, id, pose)
   int background_texture_set_ = 0;                ///< the terrain or cloud texture (0: none)
   std::vector<std::unique_ptr<GpuModel>> models_;
-  std::vector<Eigen::AlignedBox3d> model_bounds_;  ///< per model, object frame
   std::vector<GpuImage> textures_;
   std::vector<VkDescriptorSet> texture_sets_;  ///< one per texture; [0] is a 1x1 white texture
   std::map<std::pair<int, bool>, std::unique_ptr<Target>> targets_;
