@@ -94,6 +94,8 @@ struct JobFlags {
   std::string far_boards = FarBoardsText(aar::RenderJobOptions{}.far_boards_m);
   std::optional<double> sun_azimuth_deg, sun_elevation_deg, latitude_deg, longitude_deg, heading_deg;
   std::string sun_time;
+  bool daylight = false;
+  std::optional<double> turbidity;
   std::string shading = aar::ToString(aar::RenderJobOptions{}.shading);
 };
 
@@ -136,6 +138,17 @@ std::optional<aar::SunOptions> ResolveSun(const JobFlags& f) {
   return sun;
 }
 
+// --daylight and its --turbidity.
+std::optional<aar::DaylightOptions> ResolveDaylight(const JobFlags& f) {
+  if (!f.daylight) {
+    if (f.turbidity) throw aar::Error("--turbidity: only with --daylight");
+    return std::nullopt;
+  }
+  aar::DaylightOptions daylight;
+  if (f.turbidity) daylight.turbidity = *f.turbidity;
+  return daylight;
+}
+
 // The background flags of `render` (and `bench`); the defaults are BackgroundOptions'.
 void AddBackgroundFlags(CLI::App& cmd, JobFlags& f, bool kind) {
   aar::BackgroundOptions& b = f.job.background;
@@ -165,6 +178,11 @@ void AddBackgroundFlags(CLI::App& cmd, JobFlags& f, bool kind) {
   cmd.add_option("--latitude", f.latitude_deg, "with --sun-time: the tanker's latitude, north positive [deg]");
   cmd.add_option("--longitude", f.longitude_deg, "with --sun-time: the tanker's longitude, east positive [deg]");
   cmd.add_option("--heading", f.heading_deg, "with --sun-time: the tanker's true heading, 0 to 360 [deg]");
+  cmd.add_flag("--daylight", f.daylight,
+               "the sun's colour and brightness after the atmosphere, Preetham's sky for the sun, the aircraft lit "
+               "by that sky and by the ground or clouds below, the sun's disc in view (sky, terrain, clouds)");
+  cmd.add_option("--turbidity", f.turbidity,
+                 "with --daylight: the atmosphere's turbidity, 2 (very clear) to 10 (hazy) [default: 3]");
 }
 
 void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
@@ -262,6 +280,7 @@ int RunJob(int argc, char** argv, bool calib) {
   flags.job.selection = aar::ParseFrameSelection(flags.frames, flags.shard);
   flags.job.background.kind = aar::ParseBackgroundKind(flags.background);
   if (!calib) flags.job.background.sun = ResolveSun(flags);
+  if (!calib) flags.job.background.daylight = ResolveDaylight(flags);
   if (!calib) flags.job.shading = aar::ParseShading(flags.shading);
   if (calib) flags.job.far_boards_m = ParseFarBoards(flags.far_boards);
   const aar::RenderJobResult result =
@@ -340,6 +359,7 @@ int RunBench(int argc, char** argv) {
                         shadows || flags.job.shadows});
   }
   flags.job.background.sun = ResolveSun(flags);
+  flags.job.background.daylight = ResolveDaylight(flags);
   if (app.count("--msaa") > 0) {  // one level: the same as --levels with it alone
     if (app.count("--levels") > 0) throw aar::Error("--msaa and --levels: give one of them");
     levels = {flags.job.msaa};

@@ -76,6 +76,23 @@ layout(constant_id = 2) const float kSunZ = 0.82106811;
 const vec3 kSunDirection = vec3(kSunX, kSunY, kSunZ);
 const float kSunIntensity = 0.75;
 const float kAmbient = 0.35;
+// With kDaylight (--daylight; daylight.h, docs/rendering.md "Daylight"): the
+// sun's light at the tanker per channel, and the sky's radiance as A + B w.z
+// (A, B from the irradiance / pi on faces looking up and down); else the
+// fixed light above.
+layout(constant_id = 3) const int kDaylight = 0;
+layout(constant_id = 4) const float kSunLightR = 0.75;
+layout(constant_id = 5) const float kSunLightG = 0.75;
+layout(constant_id = 6) const float kSunLightB = 0.75;
+layout(constant_id = 7) const float kDaySkyAR = 0.0;
+layout(constant_id = 8) const float kDaySkyAG = 0.0;
+layout(constant_id = 9) const float kDaySkyAB = 0.0;
+layout(constant_id = 10) const float kDaySkyBR = 0.0;
+layout(constant_id = 11) const float kDaySkyBG = 0.0;
+layout(constant_id = 12) const float kDaySkyBB = 0.0;
+const vec3 kSunLight = vec3(kSunLightR, kSunLightG, kSunLightB);
+const vec3 kDaySkyA = vec3(kDaySkyAR, kDaySkyAG, kDaySkyAB);
+const vec3 kDaySkyB = vec3(kDaySkyBR, kDaySkyBG, kDaySkyBB);
 
 #ifdef AAR_PBR
 const float kPi = 3.14159265358979;
@@ -85,7 +102,9 @@ const float kPi = 3.14159265358979;
 // Lambertian surface then returns A + (2/3) B n.z.
 const float kSkyA = kAmbient * 0.75;
 const float kSkyB = kAmbient * 0.25 * 1.5;
-float SkyRadiance(vec3 w) { return kSkyA + kSkyB * clamp(w.z, -1.0, 1.0); }
+vec3 SkyRadiance(vec3 w) {
+  return kDaylight != 0 ? kDaySkyA + kDaySkyB * clamp(w.z, -1.0, 1.0) : vec3(kSkyA + kSkyB * clamp(w.z, -1.0, 1.0));
+}
 
 // GGX (Trowbridge-Reitz) distribution, alpha = roughness^2 (glTF 2.0
 // specification, appendix B).
@@ -111,13 +130,14 @@ void main() {
   vec3 n = normalize(in_normal_in_tanker);
   if (!gl_FrontFacing) n = -n;
   // Sky light is brighter from above: a hemisphere term keeps bellies textured.
-  float sky = kAmbient * (0.75 + 0.25 * n.z);
+  vec3 sky = kDaylight != 0 ? kDaySkyA + (2.0 / 3.0) * kDaySkyB * n.z : vec3(kAmbient * (0.75 + 0.25 * n.z));
+  vec3 sun_light = kDaylight != 0 ? kSunLight : vec3(kSunIntensity);
 #ifdef AAR_SHADOWS
   float sun = SunVisibility(shadow.camera_centre_in_tanker.xyz - in_to_camera_in_tanker, dot(n, kSunDirection));
 #else
   const float sun = 1.0;
 #endif
-  float light = sky + sun * kSunIntensity * max(dot(n, kSunDirection), 0.0);
+  vec3 light = sky + sun * sun_light * max(dot(n, kSunDirection), 0.0);
   vec4 albedo = pc.base_color_factor * texture(base_color_texture, in_uv);
 #ifdef AAR_PBR
   float metallic = pc.tanker_from_object_rows[0].w;
@@ -132,7 +152,7 @@ void main() {
   vec3 h = normalize(kSunDirection + v);
   vec3 f_sun = FresnelSchlick(f0, vec3(1.0), max(dot(v, h), 0.0));
   vec3 sun_specular = f_sun * DistributionGgx(max(dot(n, h), 0.0), alpha) *
-                      VisibilitySmithGgx(n_dot_l, n_dot_v, alpha) * (sun * kSunIntensity * kPi) * n_dot_l;
+                      VisibilitySmithGgx(n_dot_l, n_dot_v, alpha) * (sun * sun_light * kPi) * n_dot_l;
   // The sky, mirrored about the normal; a rough surface's lobe reaches less
   // of the grazing Fresnel rise (Fdez-Aguera's roughness-dependent f90).
   vec3 f_sky = FresnelSchlick(f0, max(vec3(1.0 - roughness), f0), n_dot_v);

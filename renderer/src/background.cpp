@@ -5,6 +5,7 @@
 
 #include "aar/error.h"
 #include "aar/pose.h"
+#include "aar/renderer/daylight.h"
 
 namespace aar {
 namespace {
@@ -53,6 +54,12 @@ void BackgroundOptions::Check() const {
   if (sun) {
     CheckRange(sun->azimuth_deg, -360.0, 360.0, "--sun-azimuth", "deg");
     CheckRange(sun->elevation_deg, 0.0, 90.0, "--sun-elevation", "deg");
+  }
+  if (daylight) {
+    if (kind == BackgroundKind::kFlat) {
+      throw Error("--daylight: the flat sky is the thesis's fixed light; use --background sky, terrain or clouds");
+    }
+    CheckRange(daylight->turbidity, 2.0, 10.0, "--turbidity", "(Preetham's range)");
   }
 }
 
@@ -137,6 +144,7 @@ nlohmann::json BackgroundJson(const BackgroundOptions& o) {
     j["cloud_top_m"] = o.cloud_top_m;
     j["cloud_texel_m"] = o.cloud_texel_m;
   }
+  if (o.daylight) j["daylight"] = DaylightJson(o);
   j["mask_ids"] = {{"sky", 0}, {"ground", kGroundId}, {"cloud_deck", kCloudDeckId}};
   j["depth"] = "metres along the optical axis to the ground or deck; 0 = sky (no surface)";
   return j;

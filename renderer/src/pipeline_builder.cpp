@@ -1,5 +1,7 @@
 #include "aar/renderer/pipeline_builder.h"
 
+#include <bit>
+
 #include "aar/renderer/scene_model.h"
 #include "aar/renderer/vulkan_context.h"
 
@@ -12,6 +14,19 @@ VkShaderModule CreateShaderModule(VkDevice device, const uint32_t* code, size_t 
   VkShaderModule module = VK_NULL_HANDLE;
   VkCheck(vkCreateShaderModule(device, &info, nullptr, &module), "vkCreateShaderModule");
   return module;
+}
+
+void SpecializationConstants::AddFloat(float value) { AddInt(std::bit_cast<int32_t>(value)); }
+
+void SpecializationConstants::AddInt(int32_t value) {
+  const uint32_t id = static_cast<uint32_t>(entries_.size());
+  entries_.push_back({id, id * static_cast<uint32_t>(sizeof(uint32_t)), sizeof(uint32_t)});
+  words_.push_back(std::bit_cast<uint32_t>(value));
+}
+
+const VkSpecializationInfo* SpecializationConstants::Info() {
+  info_ = {static_cast<uint32_t>(entries_.size()), entries_.data(), words_.size() * sizeof(uint32_t), words_.data()};
+  return &info_;
 }
 
 VkPipeline PipelineBuilder::Build(VkDevice device, VkRenderPass render_pass) const {

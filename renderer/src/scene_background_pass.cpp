@@ -33,7 +33,9 @@ SceneRenderer::BackgroundPush SceneRenderer::BackgroundFor(const Camera& camera)
   const bool clouds = bg.kind == BackgroundKind::kClouds;
   const double tile_m = clouds ? kCloudTextureSize * bg.cloud_texel_m : kTerrainTextureSize * bg.ground_texel_m;
   const float kind = bg.kind == BackgroundKind::kSky ? 1.0f : clouds ? 3.0f : 2.0f;
-  push.texture_map = glm::vec4(1.0 / tile_m, 0.0f, 0.0f, kind);
+  // Daylight's sun disc: its edge spread over one pixel's angle at the image centre.
+  const double pixel_rad = bg.daylight ? 1.0 / camera.intrinsics.fx_px : 0.0;
+  push.texture_map = glm::vec4(1.0 / tile_m, pixel_rad, 0.0f, kind);
   return push;
 }
 

@@ -140,8 +140,7 @@ SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, cons
   const BackgroundOptions& bg = options_.background;
   bg.Check();
   sun_direction_in_tanker_ = LevelFromTanker(bg).transpose() * SunInLevel(bg);
-  const Eigen::Vector3f sun = sun_direction_in_tanker_.cast<float>();
-  sun_in_tanker_ = {sun.x(), sun.y(), sun.z()};
+  std::optional<TextureMips> surface;
   if (bg.enabled()) {
     background_vert_ = CreateShaderModule(device, kSpirv_background_vert, sizeof(kSpirv_background_vert));
     background_frag_ = CreateShaderModule(device, kSpirv_background_frag, sizeof(kSpirv_background_frag));
@@ -149,9 +148,11 @@ SceneRenderer::SceneRenderer(VulkanContext& context, int width, int height, cons
         CreateShaderModule(device, kSpirv_background_truth_frag, sizeof(kSpirv_background_truth_frag));
     if (bg.kind == BackgroundKind::kTerrain || bg.kind == BackgroundKind::kClouds) {
       background_texture_set_ = static_cast<int>(texture_sets_.size());
-      UploadTexture(bg.kind == BackgroundKind::kTerrain ? TerrainTexture(bg.seed) : CloudTexture(bg.seed));
+      surface = bg.kind == BackgroundKind::kTerrain ? TerrainTexture(bg.seed) : CloudTexture(bg.seed);
+      UploadTexture(*surface);
     }
   }
+  SetLightConstants(surface ? &*surface : nullptr);
 }
 
 SceneRenderer::~SceneRenderer() {
@@ -221,17 +222,15 @@ SceneRenderer::Target& SceneRenderer::TargetFor(int samples, bool ground_truth) 
   builder.samples = static_cast<VkSampleCountFlagBits>(samples);
   builder.width = w;
   builder.height = h;
-  const VkSpecializationMapEntry sun_entries[3] = {
-      {0, 0, sizeof(float)}, {1, sizeof(float), sizeof(float)}, {2, 2 * sizeof(float), sizeof(float)}};
-  const VkSpecializationInfo sun{3, sun_entries, sizeof(sun_in_tanker_), sun_in_tanker_.data()};
-  if (!ground_truth) builder.fragment_specialization = &sun;
+  if (!ground_truth) builder.fragment_specialization = scene_constants_.Info();
   t->pipeline = builder.Build(t->device, t->frame.render_pass());
   if (options_.background.enabled() && samples == 1) {
     PipelineBuilder background = builder;
     background.vertex_shader = background_vert_;
     background.fragment_shader = ground_truth ? background_truth_frag_ : background_frag_;
     background.scene_geometry = false;
-    background.fragment_specialization = nullptr;
+    background.fragment_specialization =
+        ground_truth || background_constants_.empty() ? nullptr : background_constants_.Info();
     t->background_pipeline = background.Build(t->device, t->frame.render_pass());
   }
   slot = std::move(t);

@@ -49,6 +49,11 @@ struct SunOptions {
   std::string source;           ///< how it was set, recorded in the manifest
 };
 
+/// Daylight that follows the sun (daylight.h; docs/rendering.md, "Daylight").
+struct DaylightOptions {
+  double turbidity = 3.0;  ///< Preetham's atmospheric turbidity, 2 (very clear) to 10 (hazy)
+};
+
 struct BackgroundOptions {
   BackgroundKind kind = BackgroundKind::kFlat;
   double altitude_m = 7000.0;           ///< tanker origin above the ground (ground = sea level) [m], 100 to 20,000
@@ -64,6 +69,10 @@ struct BackgroundOptions {
   /// the heading, elevation 55 deg (SunInLevel), the light every dataset
   /// made without it has.
   std::optional<SunOptions> sun;
+  /// The sun's colour and brightness, the sky's radiance and the light on
+  /// the aircraft following the sun (and the sun's disc in view); none: the
+  /// fixed sky and light of every dataset made without it.
+  std::optional<DaylightOptions> daylight;
 
   /// Throws aar::Error naming the command-line flag of the first value out of range (or NaN).
   void Check() const;

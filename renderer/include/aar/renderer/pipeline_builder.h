@@ -9,11 +9,27 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace aar {
 
 /// A shader module from SPIR-V words; throws aar::Error naming the call on failure.
 VkShaderModule CreateShaderModule(VkDevice device, const uint32_t* code, size_t bytes);
+
+/// Specialization constants with ids 0, 1, 2, ... in the order added, 32 bits each.
+class SpecializationConstants {
+ public:
+  void AddFloat(float value);
+  void AddInt(int32_t value);
+  bool empty() const { return entries_.empty(); }
+  /// Valid while this object lives and nothing is added.
+  const VkSpecializationInfo* Info();
+
+ private:
+  std::vector<VkSpecializationMapEntry> entries_;
+  std::vector<uint32_t> words_;
+  VkSpecializationInfo info_{};
+};
 
 struct PipelineBuilder {
   VkShaderModule vertex_shader = VK_NULL_HANDLE;

@@ -17,6 +17,7 @@
 #include "aar/renderer/geometry_rect.h"
 #include "aar/renderer/gpu_resources.h"
 #include "aar/renderer/msaa.h"
+#include "aar/renderer/pipeline_builder.h"
 #include "aar/renderer/projection.h"
 #include "aar/renderer/scene_model.h"
 #include "aar/renderer/shading.h"
@@ -104,7 +105,7 @@ class SceneRenderer {
     glm::vec4 level_from_pixel_rows[3];  // xyz: rows; w: camera level x, y [m], height above the ground [m]
     glm::vec4 sun_in_level;              // xyz; w: sea-level haze extinction [1/m]
     glm::vec4 surface;      // sin^2 dip, h (2R + h) / (R + h) [m], surface height [m], haze scale height [m]
-    glm::vec4 texture_map;  // 1 / tile size [1/m], 0, 0, kind (1 sky, 2 terrain, 3 clouds)
+    glm::vec4 texture_map;  // 1 / tile size [1/m], pixel angle [rad] (daylight), 0, kind (1 sky, 2 terrain, 3 clouds)
   };
   BackgroundPush BackgroundFor(const Camera& camera) const;
   /// The camera's background, linear RGB of the whole frame: rendered the
@@ -142,7 +143,12 @@ class SceneRenderer {
   VkShaderModule background_vert_ = VK_NULL_HANDLE;
   VkShaderModule background_frag_ = VK_NULL_HANDLE;
   VkShaderModule background_truth_frag_ = VK_NULL_HANDLE;
-  std::array<float, 3> sun_in_tanker_{};  ///< scene.frag's specialization constants
+  /// scene.frag's and background.frag's specialization constants: the sun's
+  /// direction, and daylight's light and sky (scene_daylight.cpp).
+  SpecializationConstants scene_constants_;
+  SpecializationConstants background_constants_;
+  /// Fills them; `surface` is the background's texture (none: the plain ground).
+  void SetLightConstants(const TextureMips* surface);
   Eigen::Vector3d sun_direction_in_tanker_ =
       Eigen::Vector3d::UnitZ();                   ///< the same in double (unit: a rotated unit vector)
   std::unique_ptr<ShadowMaps> shadows_;           ///< with options_.shadows
