@@ -61,13 +61,20 @@ void SensorParams::Check(const std::string& where) const {
   if (!(readout_ms >= 0.0 && readout_ms <= 100.0)) {
     throw Error(at + "readout_ms " + Text(readout_ms) + " must be in [0, 100] [ms] (0: a global shutter)");
   }
+  if (!(glare_fraction >= 0.0 && glare_fraction <= 0.2)) {
+    throw Error(at + "glare_fraction " + Text(glare_fraction) + " must be in [0, 0.2] (0: no glare)");
+  }
+  if (!(glare_core_deg >= 0.01 && glare_core_deg <= 10.0)) {
+    throw Error(at + "glare_core_deg " + Text(glare_core_deg) + " must be in [0.01, 10] [deg]");
+  }
 }
 
 SensorParams SensorFromJson(const nlohmann::json& j, const std::string& where) {
   if (!j.is_object()) throw Error(where + ": sensor must be an object");
   static const std::set<std::string> known = {"seed",          "exposure_e", "full_well_e", "read_noise_e",
                                               "prnu",          "dsnu_e",     "adc_bits",    "black_level_dn",
-                                              "blur_sigma_px", "bayer",      "readout_ms"};
+                                              "blur_sigma_px", "bayer",      "readout_ms",  "glare_fraction",
+                                              "glare_core_deg"};
   for (const auto& item : j.items()) {
     if (!known.contains(item.key())) {
       throw Error(where + ": sensor." + item.key() + " is not a sensor field (docs/dataset-format.md)");
@@ -92,6 +99,8 @@ SensorParams SensorFromJson(const nlohmann::json& j, const std::string& where) {
   }
   if (j.contains("blur_sigma_px")) s.blur_sigma_px = Number(j, "blur_sigma_px", where);
   if (j.contains("readout_ms")) s.readout_ms = Number(j, "readout_ms", where);
+  if (j.contains("glare_fraction")) s.glare_fraction = Number(j, "glare_fraction", where);
+  if (j.contains("glare_core_deg")) s.glare_core_deg = Number(j, "glare_core_deg", where);
   if (j.contains("bayer")) {
     const nlohmann::json& b = j.at("bayer");
     if (b == "none") {
@@ -118,6 +127,10 @@ nlohmann::json SensorToJson(const SensorParams& s) {
                                              {"blur_sigma_px", s.blur_sigma_px},
                                              {"bayer", s.bayer == BayerPattern::kRggb ? "rggb" : "none"}});
   if (s.readout_ms > 0.0) j["readout_ms"] = s.readout_ms;
+  if (s.glare_fraction > 0.0) {
+    j["glare_fraction"] = s.glare_fraction;
+    j["glare_core_deg"] = s.glare_core_deg;
+  }
   return j;
 }
 

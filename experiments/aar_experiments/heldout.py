@@ -18,7 +18,8 @@ Every scenario is drawn from its seed before anyone looks at its results
     (+-3 deg), the receiver's propellers at 1,500-2,000 rpm over a 2-6 ms
     exposure.
 
-Lighting is not drawn: the renderer has one sun. Each scenario is
+Lighting is not drawn: every scenario has the default sun (the lighting
+experiment varies it). Each scenario is
 calibrated from its own boards, analyzed with the defaults
 (`aar-analyze run DATASET --calibration OWN.yaml`: the masks of the boom and
 the propellers are on by default where the dataset has them), and its path

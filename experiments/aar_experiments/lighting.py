@@ -15,6 +15,15 @@ sun and shading: the mean absolute error of each degree of freedom, its
 ratio to the default sun's matte one, and the stages against the depth truth
 (the sensed points' disparity error, points per frame, the signed x and
 pitch).
+
+Then the realistic light: the same frames over the procedural terrain, first
+with the fixed light (the baseline of this group), then with `--daylight`
+(the sun's colour and brightness after the atmosphere, Preetham's sky, the
+aircraft lit by that sky and by the ground; docs/rendering.md, "Daylight"),
+then with daylight, the glTF materials and the sun's shadows (`--shading pbr
+--shadows`) for the default sun and four others, and the sun in view: the
+tanker pitched 10 deg nose down and the sun 2 deg up aft, its disc near the
+top of the image.
 """
 
 import json
@@ -36,12 +45,42 @@ SUNS = {"quick": (None, (180, 30)),
 REGIONS = ("B", "C")
 # (sun, shading) pairs rendered: every sun with both shadings; --quick adds pbr for the default sun only.
 SHADINGS = ("matte", "pbr")
+TERRAIN = ("--background", "terrain")
+REALISTIC = TERRAIN + ("--daylight", "--shading", "pbr", "--shadows")
+# Over terrain: (key, label, render flags); the first is the group's baseline.
+TERRAIN_CASES = {
+    "quick": (("terrain", "fixed light", TERRAIN),
+              ("terrain-daylight-pbr-shadows", "daylight, pbr, shadows", REALISTIC)),
+    "full": (("terrain", "fixed light", TERRAIN),
+             ("terrain-daylight", "daylight", TERRAIN + ("--daylight",)),
+             ("terrain-daylight-pbr-shadows", "daylight, pbr, shadows", REALISTIC),
+             ("terrain-az0-el10", "daylight, pbr, shadows, azimuth 0, elevation 10",
+              REALISTIC + ("--sun-azimuth", "0", "--sun-elevation", "10")),
+             ("terrain-az90-el30", "daylight, pbr, shadows, azimuth 90, elevation 30",
+              REALISTIC + ("--sun-azimuth", "90", "--sun-elevation", "30")),
+             ("terrain-az180-el10", "daylight, pbr, shadows, azimuth 180, elevation 10",
+              REALISTIC + ("--sun-azimuth", "180", "--sun-elevation", "10")),
+             ("terrain-az180-el30", "daylight, pbr, shadows, azimuth 180, elevation 30",
+              REALISTIC + ("--sun-azimuth", "180", "--sun-elevation", "30")),
+             ("terrain-sun-in-view", "daylight, pbr, shadows, sun in view (tanker pitch 10, azimuth 180, elevation 2)",
+              REALISTIC + ("--tanker-pitch", "10", "--sun-azimuth", "180", "--sun-elevation", "2"))),
+}
+
+
+def _flat_render_flags(sun, shading):
+    extra = () if sun is None else ("--sun-azimuth", str(sun[0]), "--sun-elevation", str(sun[1]))
+    return extra + (() if shading == "matte" else ("--shading", shading))
 
 
 def _cases(mode):
+    """(group, key, label, render flags) of every dataset, the flat sky's first."""
     if mode == "quick":
-        return [(sun, "matte") for sun in SUNS[mode]] + [(None, "pbr")]
-    return [(sun, shading) for sun in SUNS[mode] for shading in SHADINGS]
+        flat = [(sun, "matte") for sun in SUNS[mode]] + [(None, "pbr")]
+    else:
+        flat = [(sun, shading) for sun in SUNS[mode] for shading in SHADINGS]
+    cases = [("flat", _key(sun, shading), _label(sun, shading), _flat_render_flags(sun, shading))
+             for sun, shading in flat]
+    return cases + [("terrain", key, label, flags) for key, label, flags in TERRAIN_CASES[mode]]
 
 
 def _label(sun, shading):
@@ -54,9 +93,16 @@ def _key(sun, shading):
     return text if shading == "matte" else f"{text}-pbr"
 
 
+GROUPS = (("flat", "default", "over the flat sky, the fixed light",
+           "in parentheses the ratio to the default sun's with matte shading"),
+          ("terrain", "terrain", "over terrain, daylight and shadows",
+           "in parentheses the ratio to the fixed light over the same terrain"))
+
+
 @register("lighting", order=8,
           help="beyond the thesis: the pose error against the sun's azimuth and elevation (regions B and C, "
-               "every 10th frame at x16, matte and pbr shading; --quick: two frames at x4, two suns)")
+               "every 10th frame at x16, matte and pbr shading), and over terrain with daylight, shadows and the "
+               "sun in view; --quick: two frames at x4, two suns and two terrain cases)")
 def run(ctx):
     mode = "quick" if ctx.quick else "full"
     msaa, sel = MSAA[mode], SELECTION[mode]
@@ -65,44 +111,41 @@ def run(ctx):
     rep.p(f"{selection_text(sel)}, x{msaa}, shelled model, `--preset default`, each dataset's "
           "`calibration_ideal.yaml`; mean absolute errors in m and deg.")
     results, run_dirs = {}, []
-    for sun, shading in _cases(mode):
-        key = _key(sun, shading)
+    for group, key, label, flags in _cases(mode):
         dataset = ctx.dataset(f"lighting-{key}-x{msaa}")
-        extra = ("--depth",) + (() if sun is None else ("--sun-azimuth", str(sun[0]), "--sun-elevation", str(sun[1])))
-        if shading != "matte":
-            extra += ("--shading", shading)
-        render_frames(ctx, dataset, msaa, CONOPS, sel, extra=extra)
+        render_frames(ctx, dataset, msaa, CONOPS, sel, extra=("--depth",) + flags)
         out = analyze(ctx, f"lighting-{key}", dataset, "shelled", sel,
                       calibration=dataset / "calibration_ideal.yaml", extra=PRESET)
         run_dirs.append(out)
-        results[key] = {"sun": sun, "shading": shading, "regions": region_results(out),
-                        "frames": len(read_frames(out))}
-    base = results["default"]["regions"]
-    for region in REGIONS:
-        if region not in base:
-            continue
-        rep.h(f"Region {region}")
-        rows, stage_rows = [], []
-        for sun, shading in _cases(mode):
-            r = results[_key(sun, shading)]["regions"].get(region)
-            if r is None or r["mae"] is None:
+        results[key] = {"group": group, "label": label, "render_flags": list(flags),
+                        "regions": region_results(out), "frames": len(read_frames(out))}
+    for group, base_key, title, ratio_text in GROUPS:
+        base = results[base_key]["regions"]
+        cases = [c for c in _cases(mode) if c[0] == group]
+        for region in REGIONS:
+            if region not in base:
                 continue
-            ratios = [(v / b if b else None) for v, b in zip(r["mae"], base[region]["mae"])]
-            base_case = sun is None and shading == "matte"
-            rows.append([_label(sun, shading)] + [fmt(v) + ("" if base_case or q is None else f" ({q:.2f})")
-                                         for v, q in zip(r["mae"], ratios)] + [f"{r['ok']}/{r['frames']}"])
-            st = r["stages"]
-            if st is None:
-                continue
-            stage_rows.append([_label(sun, shading), fmt(st["disparity_mean_px"], 4), fmt(st["disparity_rms_px"], 4),
-                               f"{st['points_per_frame']:.0f}", f"{st['signed_x_m']:+.3f}",
-                               f"{st['signed_pitch_deg']:+.3f}"])
-        rep.p("Mean absolute error; in parentheses the ratio to the default sun's with matte shading.")
-        rep.table(["Sun"] + list(COMPONENT_HEADERS) + ["Frames ok/all"], rows,
-                  ["---"] + ["---:"] * (len(COMPONENT_HEADERS) + 1))
-        rep.p("Stages against the depth truth: the disparity error of the sensed points on the receiver, the "
-              "points per frame, and the signed mean errors of x and pitch.")
-        rep.table(["Sun", "Disparity mean (px)", "Disparity RMS (px)", "Points per frame", "Signed X (m)",
-                   "Signed pitch (deg)"], stage_rows, ["---"] + ["---:"] * 5)
+            rep.h(f"Region {region}, {title}")
+            rows, stage_rows = [], []
+            for _, key, label, _ in cases:
+                r = results[key]["regions"].get(region)
+                if r is None or r["mae"] is None:
+                    continue
+                ratios = [(v / b if b else None) for v, b in zip(r["mae"], base[region]["mae"])]
+                rows.append([label] + [fmt(v) + ("" if key == base_key or q is None else f" ({q:.2f})")
+                                       for v, q in zip(r["mae"], ratios)] + [f"{r['ok']}/{r['frames']}"])
+                st = r["stages"]
+                if st is None:
+                    continue
+                stage_rows.append([label, fmt(st["disparity_mean_px"], 4), fmt(st["disparity_rms_px"], 4),
+                                   f"{st['points_per_frame']:.0f}", f"{st['signed_x_m']:+.3f}",
+                                   f"{st['signed_pitch_deg']:+.3f}"])
+            rep.p(f"Mean absolute error; {ratio_text}.")
+            rep.table(["Sun"] + list(COMPONENT_HEADERS) + ["Frames ok/all"], rows,
+                      ["---"] + ["---:"] * (len(COMPONENT_HEADERS) + 1))
+            rep.p("Stages against the depth truth: the disparity error of the sensed points on the receiver, the "
+                  "points per frame, and the signed mean errors of x and pitch.")
+            rep.table(["Sun", "Disparity mean (px)", "Disparity RMS (px)", "Points per frame", "Signed X (m)",
+                       "Signed pitch (deg)"], stage_rows, ["---"] + ["---:"] * 5)
     (ctx.out / "results.json").write_text(json.dumps(results, indent=1) + "\n")
     return conclude(ctx, rep, run_dirs)

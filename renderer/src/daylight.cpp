@@ -80,6 +80,13 @@ Eigen::Vector3d SunTransmittance(double elevation_deg, double height_m, double t
   return (-m * VerticalOpticalDepth(height_m, turbidity, haze_scale_height_m)).array().exp().matrix();
 }
 
+Eigen::Vector3d SunLightAtTanker(const BackgroundOptions& options) {
+  if (!options.daylight) return Eigen::Vector3d::Constant(0.75);
+  const double elevation_deg = std::asin(std::clamp(SunInLevel(options).z(), -1.0, 1.0)) / kDeg;
+  return 0.75 * SunTransmittance(elevation_deg, options.altitude_m, options.daylight->turbidity,
+                                 options.haze_scale_height_m);
+}
+
 double PreethamSky::ZenithLuminance(double turbidity, double sun_zenith_rad) {
   const double chi = (4.0 / 9.0 - turbidity / 120.0) * (kPi - 2.0 * sun_zenith_rad);
   return (4.0453 * turbidity - 4.9710) * std::tan(chi) - 0.2155 * turbidity + 2.4192;
@@ -168,8 +175,7 @@ Daylight ComputeDaylight(const BackgroundOptions& options, const Eigen::Vector3d
   const double turbidity = options.daylight->turbidity;
   Daylight d;
   d.sky = MakePreethamSky(turbidity, sun);
-  d.sun_at_tanker =
-      0.75 * SunTransmittance(elevation_deg, options.altitude_m, turbidity, options.haze_scale_height_m);
+  d.sun_at_tanker = SunLightAtTanker(options);
   d.sun_at_surface =
       0.75 * SunTransmittance(elevation_deg, SurfaceHeight(options), turbidity, options.haze_scale_height_m);
   d.sky_from_above = HemisphereIrradiance([&](const Eigen::Vector3d& w) { return d.sky.Radiance(w); }, true);

@@ -8,6 +8,7 @@
 #include "aar/error.h"
 #include "aar/progress.h"
 #include "aar/renderer/dataset_writer.h"
+#include "aar/renderer/daylight.h"
 #include "aar/text.h"
 
 namespace aar {
@@ -157,6 +158,14 @@ RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig
     s.readout_ms = rig.sensor->readout_ms;
     s.left_readout.emplace(rig.left.intrinsics, s.RenderCamera("left").intrinsics, options.readout_bands);
     s.right_readout.emplace(rig.right.intrinsics, s.RenderCamera("right").intrinsics, options.readout_bands);
+  }
+  if (rig.sensor && rig.sensor->glare_fraction > 0.0) {
+    const Eigen::Vector3d sun = LevelFromTanker(background).transpose() * SunInLevel(background);
+    const Eigen::Vector3d light = SunLightAtTanker(background);
+    for (const std::string side : {"left", "right"}) {
+      (side == "left" ? s.left_glare : s.right_glare)
+          .emplace(s.RenderCamera(side), sun, light, rig.sensor->glare_fraction, rig.sensor->glare_core_deg);
+    }
   }
   const Intrinsics& size = s.RenderCamera("left").intrinsics;
   s.renderer = std::make_unique<SceneRenderer>(*s.context, size.width_px, size.height_px, render_options);

@@ -42,6 +42,12 @@ TEST(RigSensor, MissingFieldsTakeTheDefaultsAndTheBlockRoundTrips) {
   const nlohmann::json written = RigToJson(rig);
   EXPECT_EQ(written.at("schema"), "aar-rig/3");
   EXPECT_EQ(RigToJson(RigFromJson(written, "again.json")), written);
+  EXPECT_FALSE(written.at("sensor").contains("glare_fraction"));  // no glare: the record sensors always had
+  const StereoRig glare =
+      RigFromJson(RigWithSensor({{"glare_fraction", 0.02}, {"glare_core_deg", 0.8}}), "g.json");
+  EXPECT_EQ(glare.sensor->glare_fraction, 0.02);
+  EXPECT_EQ(RigToJson(glare).at("sensor").at("glare_core_deg"), 0.8);
+  EXPECT_EQ(RigToJson(RigFromJson(RigToJson(glare), "again.json")), RigToJson(glare));
 }
 
 // Off by default: the committed pinhole rig has no sensor and is written back
@@ -75,6 +81,8 @@ TEST(RigSensor, BadSensorEntriesAreRefusedNamingTheFileAndField) {
       {{{"blur_sigma_px", 12.0}}, "r.json: sensor.blur_sigma_px 12 must be in [0, 10]"},
       {{{"bayer", "bggr"}}, "r.json: sensor.bayer \"bggr\" must be \"none\" or \"rggb\""},
       {{{"seed", -3}}, "r.json: sensor.seed -3 is outside"},
+      {{{"glare_fraction", 0.5}}, "r.json: sensor.glare_fraction 0.5 must be in [0, 0.2]"},
+      {{{"glare_fraction", 0.02}, {"glare_core_deg", 0.0}}, "r.json: sensor.glare_core_deg 0 must be in [0.01, 10]"},
   };
   for (const auto& [sensor, message] : bad) {
     const std::string error = ErrorOf([&] { RigFromJson(RigWithSensor(sensor), "r.json"); });

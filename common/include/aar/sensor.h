@@ -36,6 +36,11 @@ struct SensorParams {
   /// row at once). The renderer exposes each row at its own instant
   /// (renderer/rolling_shutter.h).
   double readout_ms = 0.0;
+  /// Veiling glare of the sun (renderer/sun_glare.h): the share of the
+  /// sun's light the lens scatters over the image, 0 = none, and the core
+  /// angle of its spread function G(theta) ~ core / (core^2 + theta^2)^1.5.
+  double glare_fraction = 0.0;
+  double glare_core_deg = 0.5;
 
   /// System gain K [DN/e-]: the full well maps to the ADC's largest code,
   /// (2^adc_bits - 1 - black_level_dn) / full_well_e.
@@ -48,7 +53,8 @@ struct SensorParams {
 /// above), an unknown field is refused; `where` names the file.
 SensorParams SensorFromJson(const nlohmann::json& j, const std::string& where);
 /// Every field (JSON object keys are sorted); readout_ms only for a rolling
-/// shutter, so a global-shutter sensor's record keeps the keys it always had.
+/// shutter and the glare's fields only with glare, so a sensor without them
+/// keeps the record it always had.
 nlohmann::json SensorToJson(const SensorParams& sensor);
 
 }  // namespace aar

@@ -48,6 +48,10 @@ Eigen::Vector3d VerticalOpticalDepth(double height_m, double turbidity, double h
 Eigen::Vector3d SunTransmittance(double elevation_deg, double height_m, double turbidity,
                                  double haze_scale_height_m);
 
+/// The sun's light at the tanker, per channel: 0.75 x SunTransmittance with
+/// --daylight, else the fixed light's white 0.75.
+Eigen::Vector3d SunLightAtTanker(const BackgroundOptions& options);
+
 /// Preetham's sky for one turbidity and sun: the Perez distribution's
 /// coefficients and zenith values of luminance Y and chromaticity x, y.
 struct PreethamSky {

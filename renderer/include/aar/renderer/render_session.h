@@ -18,6 +18,7 @@
 #include "aar/renderer/rolling_shutter.h"
 #include "aar/renderer/scene_renderer.h"
 #include "aar/renderer/sensor_model.h"
+#include "aar/renderer/sun_glare.h"
 #include "aar/renderer/stereo_render_job.h"
 #include "aar/renderer/vulkan_context.h"
 #include "aar/rig.h"
@@ -35,6 +36,8 @@ struct RenderSession {
   // With lens distortion (docs/rendering.md): both cameras are rendered as
   // pinhole cameras on one grown image and resampled; empty for a pinhole rig.
   std::optional<LensResampler> left_lens, right_lens;
+  // The sun's veiling glare on each pinhole render, where the rig's sensor declares it.
+  std::optional<SunGlare> left_glare, right_glare;
   // The rig's sensor, its fixed patterns drawn once for the whole run; null without one.
   std::shared_ptr<const SensorModel> sensor;
   // A rolling shutter (the sensor's readout_ms > 0): the readout time and
@@ -50,10 +53,12 @@ struct RenderSession {
     return side == "left" ? left_readout : right_readout;
   }
   /// The effects a view's radiance passes through before its encoding, in
-  /// order (view_effect.h): the lens's resampling, then the sensor. A new
-  /// image effect is made in OpenRenderSession and listed here.
+  /// order (view_effect.h): the sun's glare, the lens's resampling, then
+  /// the sensor. A new image effect is made in OpenRenderSession and listed here.
   std::vector<const ViewEffect*> ViewEffects(const std::string& side) const {
     std::vector<const ViewEffect*> effects;
+    const std::optional<SunGlare>& glare = side == "left" ? left_glare : right_glare;
+    if (glare) effects.push_back(&*glare);
     if (Lens(side)) effects.push_back(&*Lens(side));
     if (sensor) effects.push_back(sensor.get());
     return effects;
