@@ -71,10 +71,9 @@ void SensorParams::Check(const std::string& where) const {
 
 SensorParams SensorFromJson(const nlohmann::json& j, const std::string& where) {
   if (!j.is_object()) throw Error(where + ": sensor must be an object");
-  static const std::set<std::string> known = {"seed",          "exposure_e", "full_well_e", "read_noise_e",
-                                              "prnu",          "dsnu_e",     "adc_bits",    "black_level_dn",
-                                              "blur_sigma_px", "bayer",      "readout_ms",  "glare_fraction",
-                                              "glare_core_deg"};
+  static const std::set<std::string> known = {
+      "seed",           "exposure_e",    "full_well_e", "read_noise_e", "prnu",           "dsnu_e",        "adc_bits",
+      "black_level_dn", "blur_sigma_px", "bayer",       "readout_ms",   "glare_fraction", "glare_core_deg"};
   for (const auto& item : j.items()) {
     if (!known.contains(item.key())) {
       throw Error(where + ": sensor." + item.key() + " is not a sensor field (docs/dataset-format.md)");

@@ -5,8 +5,8 @@
 #include <numbers>
 
 #include "aar/error.h"
-#include "aar/text.h"
 #include "aar/renderer/background.h"
+#include "aar/text.h"
 
 namespace aar {
 namespace {
@@ -19,7 +19,14 @@ constexpr double kUnitsPerCandela = 0.75 * kPi / kSolarIlluminanceLx;
 
 double Perez(const std::array<double, 5>& c, double cos_theta, double gamma) {
   const double cos_gamma = std::cos(gamma);
-  return (1.0 + c[0] * std::exp(c[1] / cos_theta)) * (1.0 + c[2] * std::exp(c[3] * gamma) + c[4] * cos_gamma * cos_gamma);
+  return (1.0 + c[0] * std::exp(c[1] / cos_theta)) *
+         (1.0 + c[2] * std::exp(c[3] * gamma) + c[4] * cos_gamma * cos_gamma);
+}
+
+// The direct sun's transmittance to `height_m` for the options' sun and turbidity.
+Eigen::Vector3d SunTransmittanceAt(const BackgroundOptions& options, double height_m) {
+  const double elevation_deg = std::asin(std::clamp(SunInLevel(options).z(), -1.0, 1.0)) / kDeg;
+  return SunTransmittance(elevation_deg, height_m, options.daylight->turbidity, options.haze_scale_height_m);
 }
 
 double SurfaceHeight(const BackgroundOptions& options) {
@@ -55,8 +62,9 @@ double RelativeAirMass(double zenith_deg) {
 double PressureRatio(double height_m) {
   // US Standard Atmosphere 1976: lapse rate 6.5 K/km to 11 km, then isothermal at 216.65 K.
   constexpr double kTropopauseM = 11000.0;
-  const double troposphere = [](double h) { return std::pow(1.0 - 2.25577e-5 * h, 5.25588); }(
-      std::min(height_m, kTropopauseM));
+  const double troposphere = [](double h) {
+    return std::pow(1.0 - 2.25577e-5 * h, 5.25588);
+  }(std::min(height_m, kTropopauseM));
   return height_m <= kTropopauseM ? troposphere : troposphere * std::exp(-(height_m - kTropopauseM) / 6341.6);
 }
 
@@ -74,17 +82,14 @@ Eigen::Vector3d VerticalOpticalDepth(double height_m, double turbidity, double h
   return tau;
 }
 
-Eigen::Vector3d SunTransmittance(double elevation_deg, double height_m, double turbidity,
-                                 double haze_scale_height_m) {
+Eigen::Vector3d SunTransmittance(double elevation_deg, double height_m, double turbidity, double haze_scale_height_m) {
   const double m = RelativeAirMass(90.0 - elevation_deg);
   return (-m * VerticalOpticalDepth(height_m, turbidity, haze_scale_height_m)).array().exp().matrix();
 }
 
 Eigen::Vector3d SunLightAtTanker(const BackgroundOptions& options) {
   if (!options.daylight) return Eigen::Vector3d::Constant(0.75);
-  const double elevation_deg = std::asin(std::clamp(SunInLevel(options).z(), -1.0, 1.0)) / kDeg;
-  return 0.75 * SunTransmittance(elevation_deg, options.altitude_m, options.daylight->turbidity,
-                                 options.haze_scale_height_m);
+  return 0.75 * SunTransmittanceAt(options, options.altitude_m);
 }
 
 double PreethamSky::ZenithLuminance(double turbidity, double sun_zenith_rad) {
@@ -94,7 +99,8 @@ double PreethamSky::ZenithLuminance(double turbidity, double sun_zenith_rad) {
 
 PreethamSky MakePreethamSky(double turbidity, const Eigen::Vector3d& sun_in_level) {
   if (!(turbidity >= 2.0 && turbidity <= 10.0)) {
-    throw Error("--turbidity " + FormatFixed(turbidity, 3) + ": expected 2 (very clear) to 10 (hazy), Preetham's range");
+    throw Error("--turbidity " + FormatFixed(turbidity, 3) +
+                ": expected 2 (very clear) to 10 (hazy), Preetham's range");
   }
   const double t = turbidity;
   PreethamSky sky;
@@ -171,13 +177,10 @@ Eigen::Vector3d BelowHorizonRadiance(const BackgroundOptions& options, const Day
 Daylight ComputeDaylight(const BackgroundOptions& options, const Eigen::Vector3d& surface_albedo) {
   if (!options.daylight) throw Error("ComputeDaylight: the options have no daylight");
   const Eigen::Vector3d sun = SunInLevel(options);
-  const double elevation_deg = std::asin(std::clamp(sun.z(), -1.0, 1.0)) / kDeg;
-  const double turbidity = options.daylight->turbidity;
   Daylight d;
-  d.sky = MakePreethamSky(turbidity, sun);
+  d.sky = MakePreethamSky(options.daylight->turbidity, sun);
   d.sun_at_tanker = SunLightAtTanker(options);
-  d.sun_at_surface =
-      0.75 * SunTransmittance(elevation_deg, SurfaceHeight(options), turbidity, options.haze_scale_height_m);
+  d.sun_at_surface = 0.75 * SunTransmittanceAt(options, SurfaceHeight(options));
   d.sky_from_above = HemisphereIrradiance([&](const Eigen::Vector3d& w) { return d.sky.Radiance(w); }, true);
   d.surface_light = d.sun_at_surface * std::max(sun.z(), 0.0) + d.sky_from_above;
   d.sky_from_below = HemisphereIrradiance(
@@ -187,14 +190,10 @@ Daylight ComputeDaylight(const BackgroundOptions& options, const Eigen::Vector3d
 }
 
 nlohmann::json DaylightJson(const BackgroundOptions& options) {
-  const Eigen::Vector3d sun = SunInLevel(options);
-  const double elevation_deg = std::asin(std::clamp(sun.z(), -1.0, 1.0)) / kDeg;
   const double turbidity = options.daylight->turbidity;
-  const Eigen::Vector3d at_tanker =
-      SunTransmittance(elevation_deg, options.altitude_m, turbidity, options.haze_scale_height_m);
-  const Eigen::Vector3d at_surface =
-      SunTransmittance(elevation_deg, SurfaceHeight(options), turbidity, options.haze_scale_height_m);
-  const PreethamSky sky = MakePreethamSky(turbidity, sun);
+  const Eigen::Vector3d at_tanker = SunTransmittanceAt(options, options.altitude_m);
+  const Eigen::Vector3d at_surface = SunTransmittanceAt(options, SurfaceHeight(options));
+  const PreethamSky sky = MakePreethamSky(turbidity, SunInLevel(options));
   return {{"model",
            "sky: Preetham, Shirley and Smits 1999; sun: Kasten-Young air mass, Rayleigh (Leckner), Angstrom "
            "aerosols, ozone (docs/rendering.md, \"Daylight\")"},

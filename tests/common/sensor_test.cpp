@@ -43,8 +43,7 @@ TEST(RigSensor, MissingFieldsTakeTheDefaultsAndTheBlockRoundTrips) {
   EXPECT_EQ(written.at("schema"), "aar-rig/3");
   EXPECT_EQ(RigToJson(RigFromJson(written, "again.json")), written);
   EXPECT_FALSE(written.at("sensor").contains("glare_fraction"));  // no glare: the record sensors always had
-  const StereoRig glare =
-      RigFromJson(RigWithSensor({{"glare_fraction", 0.02}, {"glare_core_deg", 0.8}}), "g.json");
+  const StereoRig glare = RigFromJson(RigWithSensor({{"glare_fraction", 0.02}, {"glare_core_deg", 0.8}}), "g.json");
   EXPECT_EQ(glare.sensor->glare_fraction, 0.02);
   EXPECT_EQ(RigToJson(glare).at("sensor").at("glare_core_deg"), 0.8);
   EXPECT_EQ(RigToJson(RigFromJson(RigToJson(glare), "again.json")), RigToJson(glare));

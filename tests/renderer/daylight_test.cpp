@@ -96,7 +96,8 @@ TEST(Daylight, TheBackgroundIsTheModelAndTheSunsDiscIsWhereTheSunIs) {
   SceneRendererOptions options;
   options.background = LowSunAft();
   SceneRenderer renderer(context, k.width_px, k.height_px, options);
-  const LinearImage image = renderer.RenderColor(rig.left, rig.near_m, {}, PlanMsaa(1, context.info().color_sample_counts));
+  const LinearImage image =
+      renderer.RenderColor(rig.left, rig.near_m, {}, PlanMsaa(1, context.info().color_sample_counts));
   const BackgroundOptions& bg = options.background;
   const Daylight daylight = ComputeDaylight(bg, {kPlainGroundAlbedo[0], kPlainGroundAlbedo[1], kPlainGroundAlbedo[2]});
   const Eigen::Matrix3d level_from_pixel = LevelFromPixel(rig.left, bg);
@@ -162,8 +163,8 @@ TEST(Daylight, AWhitePlateIsLitByTheSunAndSkyTheModelGives) {
   options.background.daylight = DaylightOptions{4.0};
   SceneRenderer renderer(context, k.width_px, k.height_px, options);
   Primitive plate;
-  for (const auto& [x, y] : {std::pair{-3.0f, -3.0f}, std::pair{3.0f, -3.0f}, std::pair{3.0f, 3.0f},
-                             std::pair{-3.0f, 3.0f}}) {
+  for (const auto& [x, y] :
+       {std::pair{-3.0f, -3.0f}, std::pair{3.0f, -3.0f}, std::pair{3.0f, 3.0f}, std::pair{-3.0f, 3.0f}}) {
     plate.vertices.push_back(Vertex{{x, y, 0.0f}, {0.0f, 0.0f, 1.0f}, {0.0f, 0.0f}});
   }
   plate.indices = {0, 1, 2, 0, 2, 3};

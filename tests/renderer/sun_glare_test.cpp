@@ -69,9 +69,9 @@ TEST(SunGlare, TheVeilIsTheSpreadOfTheSunsIrradianceAtEachPixel) {
     }
   }
   // Applied: the radiance plus the veil, the image otherwise untouched.
-  LinearImage image{camera.intrinsics.width_px, camera.intrinsics.height_px,
-                    std::vector<float>(static_cast<size_t>(camera.intrinsics.width_px) * camera.intrinsics.height_px * 3,
-                                       0.25f)};
+  LinearImage image{
+      camera.intrinsics.width_px, camera.intrinsics.height_px,
+      std::vector<float>(static_cast<size_t>(camera.intrinsics.width_px) * camera.intrinsics.height_px * 3, 0.25f)};
   const LinearImage out = glare.Apply(image, SensorExposure{});
   for (size_t i = 0; i < out.rgb.size(); i += 9973) EXPECT_EQ(out.rgb[i], 0.25f + glare.veil()[i]);
   EXPECT_THROW(glare.Apply(LinearImage{4, 4, std::vector<float>(48, 0.0f)}, SensorExposure{}), Error);
@@ -138,7 +138,8 @@ TEST(SunGlare, ARigWithGlareBrightensTheImageTowardsTheSun) {
     return cv::imread((o.output / ReadSidecar(SidecarPath(o.output, "frame", 0)).files.at("left").path).string(),
                       cv::IMREAD_GRAYSCALE);
   };
-  const cv::Mat with = render("with", glare_rig, true), without = render("without", SourcePath("scenes/rig-noisy.json"), true);
+  const cv::Mat with = render("with", glare_rig, true),
+                without = render("without", SourcePath("scenes/rig-noisy.json"), true);
   // The disc (saturated) without glare, then the gain around it: 15-40 px
   // from its centre, and 250-300 px, where the spread has fallen 60-fold.
   cv::Point2d centre(0.0, 0.0);

@@ -45,8 +45,7 @@ Eigen::Vector3d VerticalOpticalDepth(double height_m, double turbidity, double h
 
 /// The direct sun's transmittance per channel to a point `height_m` up, with
 /// the sun `elevation_deg` above the horizon: exp(-m tau).
-Eigen::Vector3d SunTransmittance(double elevation_deg, double height_m, double turbidity,
-                                 double haze_scale_height_m);
+Eigen::Vector3d SunTransmittance(double elevation_deg, double height_m, double turbidity, double haze_scale_height_m);
 
 /// The sun's light at the tanker, per channel: 0.75 x SunTransmittance with
 /// --daylight, else the fixed light's white 0.75.
@@ -55,7 +54,7 @@ Eigen::Vector3d SunLightAtTanker(const BackgroundOptions& options);
 /// Preetham's sky for one turbidity and sun: the Perez distribution's
 /// coefficients and zenith values of luminance Y and chromaticity x, y.
 struct PreethamSky {
-  std::array<std::array<double, 5>, 3> perez{};  ///< A..E of Y, x, y
+  std::array<std::array<double, 5>, 3> perez{};      ///< A..E of Y, x, y
   Eigen::Vector3d zenith = Eigen::Vector3d::Zero();  ///< Y [kcd/m^2], x, y at the zenith
   Eigen::Vector3d sun_in_level = Eigen::Vector3d::UnitZ();
   double sun_zenith_rad = 0.0;

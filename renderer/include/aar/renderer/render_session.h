@@ -18,8 +18,8 @@
 #include "aar/renderer/rolling_shutter.h"
 #include "aar/renderer/scene_renderer.h"
 #include "aar/renderer/sensor_model.h"
-#include "aar/renderer/sun_glare.h"
 #include "aar/renderer/stereo_render_job.h"
+#include "aar/renderer/sun_glare.h"
 #include "aar/renderer/vulkan_context.h"
 #include "aar/rig.h"
 
