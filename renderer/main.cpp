@@ -96,6 +96,9 @@ struct JobFlags {
   std::string sun_time;
   bool daylight = false;
   std::optional<double> turbidity;
+  bool night = false;
+  std::optional<double> moonlight_lx;
+  std::optional<double> floodlight_lx, floodlight_beam_deg;
   std::string shading = aar::ToString(aar::RenderJobOptions{}.shading);
 };
 
@@ -138,15 +141,45 @@ std::optional<aar::SunOptions> ResolveSun(const JobFlags& f) {
   return sun;
 }
 
-// --daylight and its --turbidity.
+// --daylight and its --turbidity (--night's sky is daylight's, scaled).
 std::optional<aar::DaylightOptions> ResolveDaylight(const JobFlags& f) {
-  if (!f.daylight) {
-    if (f.turbidity) throw aar::Error("--turbidity: only with --daylight");
+  if (f.daylight && f.night) throw aar::Error("--daylight and --night: give one of them");
+  if (!f.daylight && !f.night) {
+    if (f.turbidity) throw aar::Error("--turbidity: only with --daylight or --night");
     return std::nullopt;
   }
   aar::DaylightOptions daylight;
   if (f.turbidity) daylight.turbidity = *f.turbidity;
   return daylight;
+}
+
+// --night and its --moonlight; the moon takes the sun's direction, which a
+// date and time cannot give (they give the sun's).
+std::optional<aar::NightOptions> ResolveNight(const JobFlags& f) {
+  if (!f.night) {
+    if (f.moonlight_lx) throw aar::Error("--moonlight: only with --night");
+    return std::nullopt;
+  }
+  if (!f.sun_time.empty()) {
+    throw aar::Error(
+        "--night and --sun-time: the time gives the sun's place; give the moon's with --sun-azimuth "
+        "and --sun-elevation");
+  }
+  aar::NightOptions night;
+  if (f.moonlight_lx) night.moonlight_lx = *f.moonlight_lx;
+  return night;
+}
+
+// --floodlight and its --floodlight-beam.
+std::optional<aar::FloodlightOptions> ResolveFloodlight(const JobFlags& f) {
+  if (!f.floodlight_lx) {
+    if (f.floodlight_beam_deg) throw aar::Error("--floodlight-beam: only with --floodlight");
+    return std::nullopt;
+  }
+  aar::FloodlightOptions flood;
+  flood.illuminance_lx = *f.floodlight_lx;
+  if (f.floodlight_beam_deg) flood.beam_sigma_deg = *f.floodlight_beam_deg;
+  return flood;
 }
 
 // The background flags of `render` (and `bench`); the defaults are BackgroundOptions'.
@@ -182,7 +215,14 @@ void AddBackgroundFlags(CLI::App& cmd, JobFlags& f, bool kind) {
                "the sun's colour and brightness after the atmosphere, Preetham's sky for the sun, the aircraft lit "
                "by that sky and by the ground or clouds below, the sun's disc in view (sky, terrain, clouds)");
   cmd.add_option("--turbidity", f.turbidity,
-                 "with --daylight: the atmosphere's turbidity, 2 (very clear) to 10 (hazy) [default: 3]");
+                 "with --daylight or --night: the atmosphere's turbidity, 2 (very clear) to 10 (hazy) [default: 3]");
+  cmd.add_flag("--night", f.night,
+               "night: the moon at --sun-azimuth/--sun-elevation (default: the default sun's place), its light and "
+               "the sky it scatters (the daylight model scaled to the moon); set --exposure-ev, a camera's exposure "
+               "at night (sky, terrain, clouds)");
+  cmd.add_option("--moonlight", f.moonlight_lx,
+                 "with --night: the moon's illuminance outside the atmosphere, 0 (no moon) to 1 lx [default: 0.25, "
+                 "a full moon]");
 }
 
 void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
@@ -213,6 +253,9 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
                    "e.g. 1700); blurred with --shutter-ms")
         ->capture_default_str();
     cmd.add_option("--propeller-model", f.job.propeller_model, "propeller glTF")->capture_default_str();
+    cmd.add_flag("--receiver-lights", f.job.receiver_lights,
+                 "the receiver's position lights (red left, green right, white tail), red anti-collision beacons "
+                 "and white strobes, flashing once a second (14 CFR 23.1391-23.1401 intensities)");
     cmd.add_option("--shutter-ms", f.job.shutter_ms,
                    "exposure time [ms] centred on each sample: the receiver and its propellers move during it "
                    "(motion blur); 0: an instant")
@@ -232,6 +275,15 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
     cmd.add_flag("--shadows", f.job.shadows,
                  "the sun's shadows on the receiver: what the tanker, the boom, the receiver and its propellers "
                  "cast on it (a shadow map per instant; docs/rendering.md, \"Shadows\")");
+    cmd.add_option("--exposure-ev", f.job.exposure_ev,
+                   "the camera's exposure over the rig's [EV, powers of two], -10 to 24: more light on the sensor "
+                   "(a longer shutter, a wider aperture); at night about 10 to 14 with --floodlight")
+        ->capture_default_str();
+    cmd.add_option("--floodlight", f.floodlight_lx,
+                   "the tanker's floodlight between the cameras, aimed at the path's nearest receiver position, "
+                   "giving this illuminance there [lx], 0.1 to 10000 (e.g. 50 at night)");
+    cmd.add_option("--floodlight-beam", f.floodlight_beam_deg,
+                   "with --floodlight: the beam's spread, one standard deviation, 1 to 60 [deg] [default: 10]");
     cmd.add_flag("--depth", f.job.depth,
                  "also write left-camera ground-truth depth (EXR, metres), object ids and receiver silhouette");
     cmd.add_flag("--depth-right", f.job.depth_right, "also write the same for the right camera (implies --depth)");
@@ -281,6 +333,8 @@ int RunJob(int argc, char** argv, bool calib) {
   flags.job.background.kind = aar::ParseBackgroundKind(flags.background);
   if (!calib) flags.job.background.sun = ResolveSun(flags);
   if (!calib) flags.job.background.daylight = ResolveDaylight(flags);
+  if (!calib) flags.job.background.night = ResolveNight(flags);
+  if (!calib) flags.job.floodlight = ResolveFloodlight(flags);
   if (!calib) flags.job.shading = aar::ParseShading(flags.shading);
   if (calib) flags.job.far_boards_m = ParseFarBoards(flags.far_boards);
   const aar::RenderJobResult result =
@@ -360,6 +414,8 @@ int RunBench(int argc, char** argv) {
   }
   flags.job.background.sun = ResolveSun(flags);
   flags.job.background.daylight = ResolveDaylight(flags);
+  flags.job.background.night = ResolveNight(flags);
+  flags.job.floodlight = ResolveFloodlight(flags);
   if (app.count("--msaa") > 0) {  // one level: the same as --levels with it alone
     if (app.count("--levels") > 0) throw aar::Error("--msaa and --levels: give one of them");
     levels = {flags.job.msaa};

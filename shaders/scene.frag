@@ -14,10 +14,11 @@ layout(location = 2) in float in_depth_m;
 #if defined(AAR_PBR) || defined(AAR_SHADOWS)
 layout(location = 3) in vec3 in_to_camera_in_tanker;
 #endif
+layout(location = 4) in vec3 in_position_in_tanker;
 
 layout(push_constant) uniform PushConstants {
   mat4 clip_from_object;
-  vec4 tanker_from_object_rows[3];  // w of rows 0 and 1: metallic and roughness (AAR_PBR)
+  vec4 tanker_from_object_rows[3];  // w of rows 0 and 1: metallic and roughness (AAR_PBR); of row 2: 1 for a light
   vec4 base_color_factor;
 } pc;
 
@@ -93,6 +94,31 @@ layout(constant_id = 12) const float kDaySkyBB = 0.0;
 const vec3 kSunLight = vec3(kSunLightR, kSunLightG, kSunLightB);
 const vec3 kDaySkyA = vec3(kDaySkyAR, kDaySkyAG, kDaySkyAB);
 const vec3 kDaySkyB = vec3(kDaySkyBR, kDaySkyBG, kDaySkyBB);
+// With kFloodlight (--floodlight; floodlight.h, docs/rendering.md "Night"):
+// a white point light at kFlood (tanker frame) aimed along kFloodAxis, its
+// intensity a Gaussian of the angle off the axis (sigma kFloodSigma rad),
+// kFloodIntensity on the axis in the units of kSunLight at 1 m.
+layout(constant_id = 13) const int kFloodlight = 0;
+layout(constant_id = 14) const float kFloodX = 0.0;
+layout(constant_id = 15) const float kFloodY = 0.0;
+layout(constant_id = 16) const float kFloodZ = 0.0;
+layout(constant_id = 17) const float kFloodAxisX = -1.0;
+layout(constant_id = 18) const float kFloodAxisY = 0.0;
+layout(constant_id = 19) const float kFloodAxisZ = 0.0;
+layout(constant_id = 20) const float kFloodIntensity = 0.0;
+layout(constant_id = 21) const float kFloodSigma = 0.1745;
+const vec3 kFlood = vec3(kFloodX, kFloodY, kFloodZ);
+const vec3 kFloodAxis = vec3(kFloodAxisX, kFloodAxisY, kFloodAxisZ);
+
+// The floodlight's direction from the surface (xyz) and its light there (w):
+// what a surface facing it receives, in the units of kSunLight.
+vec4 Floodlight() {
+  vec3 d = kFlood - in_position_in_tanker;
+  float d2 = dot(d, d);
+  vec3 l = d * inversesqrt(d2);
+  float off_axis = acos(clamp(dot(-l, kFloodAxis), -1.0, 1.0));
+  return vec4(l, kFloodIntensity * exp(-0.5 * off_axis * off_axis / (kFloodSigma * kFloodSigma)) / d2);
+}
 
 #ifdef AAR_PBR
 const float kPi = 3.14159265358979;
@@ -127,6 +153,12 @@ vec3 FresnelSchlick(vec3 f0, vec3 f90, float cos_theta) {
 #endif
 
 void main() {
+  // A light (receiver_lights.h): its radiance, unlit, kept below half
+  // floats' largest value (65504) so that averaging stays finite.
+  if (pc.tanker_from_object_rows[2].w > 0.5) {
+    out_color = vec4(min(pc.base_color_factor.rgb, vec3(60000.0)), 1.0);
+    return;
+  }
   vec3 n = normalize(in_normal_in_tanker);
   if (!gl_FrontFacing) n = -n;
   // Sky light is brighter from above: a hemisphere term keeps bellies textured.
@@ -138,6 +170,11 @@ void main() {
   const float sun = 1.0;
 #endif
   vec3 light = sky + sun * sun_light * max(dot(n, kSunDirection), 0.0);
+  vec4 flood = vec4(0.0);
+  if (kFloodlight != 0) {
+    flood = Floodlight();
+    light += vec3(flood.w * max(dot(n, flood.xyz), 0.0));
+  }
   vec4 albedo = pc.base_color_factor * texture(base_color_texture, in_uv);
 #ifdef AAR_PBR
   float metallic = pc.tanker_from_object_rows[0].w;
@@ -153,6 +190,14 @@ void main() {
   vec3 f_sun = FresnelSchlick(f0, vec3(1.0), max(dot(v, h), 0.0));
   vec3 sun_specular = f_sun * DistributionGgx(max(dot(n, h), 0.0), alpha) *
                       VisibilitySmithGgx(n_dot_l, n_dot_v, alpha) * (sun * sun_light * kPi) * n_dot_l;
+  if (kFloodlight != 0) {
+    // The floodlight's reflection, a point source like the sun.
+    float f_n_dot_l = max(dot(n, flood.xyz), 0.0);
+    vec3 f_h = normalize(flood.xyz + v);
+    sun_specular += FresnelSchlick(f0, vec3(1.0), max(dot(v, f_h), 0.0)) *
+                    DistributionGgx(max(dot(n, f_h), 0.0), alpha) * VisibilitySmithGgx(f_n_dot_l, n_dot_v, alpha) *
+                    (flood.w * kPi) * f_n_dot_l;
+  }
   // The sky, mirrored about the normal; a rough surface's lobe reaches less
   // of the grazing Fresnel rise (Fdez-Aguera's roughness-dependent f90).
   vec3 f_sky = FresnelSchlick(f0, max(vec3(1.0 - roughness), f0), n_dot_v);

@@ -18,9 +18,14 @@ layout(location = 0) out vec3 out_normal_in_tanker;
 layout(location = 1) out vec2 out_uv;
 layout(location = 2) out float out_depth_m;
 layout(location = 3) out vec3 out_to_camera_in_tanker;  // from the surface to the camera's centre [m]
+layout(location = 4) out vec3 out_position_in_tanker;   // [m]
 
 void main() {
+  // Row 2 of clip_from_object is (0, 0, 0, near) for every camera
+  // (projection.h): z_clip is near, and the row's first three entries carry
+  // tanker_from_object's translation instead (scene_renderer.cpp).
   gl_Position = pc.clip_from_object * vec4(in_position, 1.0);
+  gl_Position.z = pc.clip_from_object[3][2];
   mat3 tanker_from_object_t = mat3(pc.tanker_from_object_rows[0].xyz,
                                    pc.tanker_from_object_rows[1].xyz,
                                    pc.tanker_from_object_rows[2].xyz);
@@ -34,4 +39,6 @@ void main() {
   mat3 a = mat3(vec3(p[0][0], p[0][1], p[0][3]), vec3(p[1][0], p[1][1], p[1][3]), vec3(p[2][0], p[2][1], p[2][3]));
   vec3 centre = inverse(a) * -vec3(p[3][0], p[3][1], p[3][3]);
   out_to_camera_in_tanker = (centre - in_position) * tanker_from_object_t;
+  out_position_in_tanker = in_position * tanker_from_object_t +
+                           vec3(pc.clip_from_object[0][2], pc.clip_from_object[1][2], pc.clip_from_object[2][2]);
 }

@@ -55,6 +55,13 @@ void BackgroundOptions::Check() const {
     CheckRange(sun->azimuth_deg, -360.0, 360.0, "--sun-azimuth", "deg");
     CheckRange(sun->elevation_deg, 0.0, 90.0, "--sun-elevation", "deg");
   }
+  if (night) {
+    if (kind == BackgroundKind::kFlat) {
+      throw Error("--night: the flat sky is the thesis's fixed light; use --background sky, terrain or clouds");
+    }
+    if (!daylight) throw Error("--night: the night's sky is the daylight model's, scaled: set daylight too");
+    CheckRange(night->moonlight_lx, 0.0, 1.0, "--moonlight", "lx");
+  }
   if (daylight) {
     if (kind == BackgroundKind::kFlat) {
       throw Error("--daylight: the flat sky is the thesis's fixed light; use --background sky, terrain or clouds");

@@ -87,9 +87,19 @@ Eigen::Vector3d SunTransmittance(double elevation_deg, double height_m, double t
   return (-m * VerticalOpticalDepth(height_m, turbidity, haze_scale_height_m)).array().exp().matrix();
 }
 
+double RenderScale(const BackgroundOptions& options) { return options.night ? kNightRenderScale : 1.0; }
+
+double SourceScale(const BackgroundOptions& options) {
+  return options.night ? options.night->moonlight_lx / kSolarIlluminanceLx * kNightRenderScale : 1.0;
+}
+
+double SourceAngularRadiusRad(const BackgroundOptions& options) {
+  return options.night ? kMoonAngularRadiusRad : kSunAngularRadiusRad;
+}
+
 Eigen::Vector3d SunLightAtTanker(const BackgroundOptions& options) {
   if (!options.daylight) return Eigen::Vector3d::Constant(0.75);
-  return 0.75 * SunTransmittanceAt(options, options.altitude_m);
+  return 0.75 * SourceScale(options) * SunTransmittanceAt(options, options.altitude_m);
 }
 
 double PreethamSky::ZenithLuminance(double turbidity, double sun_zenith_rad) {
@@ -127,7 +137,7 @@ PreethamSky MakePreethamSky(double turbidity, const Eigen::Vector3d& sun_in_leve
 Eigen::Vector3d PreethamSky::ZenithOverPerez() const {
   Eigen::Vector3d out;
   for (int k = 0; k < 3; ++k) out[k] = zenith[k] / Perez(perez[k], 1.0, sun_zenith_rad);
-  out[0] *= 1000.0 * kUnitsPerCandela;
+  out[0] *= 1000.0 * kUnitsPerCandela * scale;
   return out;
 }
 
@@ -157,7 +167,7 @@ Eigen::Vector3d LinearSrgbFromXyz(const Eigen::Vector3d& xyz) {
 
 Eigen::Vector3d PreethamSky::Radiance(const Eigen::Vector3d& direction_in_level) const {
   const Eigen::Vector3d v = Yxy(direction_in_level);
-  const double luminance = std::max(v[0], 0.0) * 1000.0 * kUnitsPerCandela;
+  const double luminance = std::max(v[0], 0.0) * 1000.0 * kUnitsPerCandela * scale;
   const Eigen::Vector3d xyz(v[1] / v[2] * luminance, luminance, (1.0 - v[1] - v[2]) / v[2] * luminance);
   return LinearSrgbFromXyz(xyz).cwiseMax(0.0);
 }
@@ -179,13 +189,15 @@ Daylight ComputeDaylight(const BackgroundOptions& options, const Eigen::Vector3d
   const Eigen::Vector3d sun = SunInLevel(options);
   Daylight d;
   d.sky = MakePreethamSky(options.daylight->turbidity, sun);
+  d.sky.scale = SourceScale(options);
   d.sun_at_tanker = SunLightAtTanker(options);
-  d.sun_at_surface = 0.75 * SunTransmittanceAt(options, SurfaceHeight(options));
+  d.sun_at_surface = 0.75 * SourceScale(options) * SunTransmittanceAt(options, SurfaceHeight(options));
   d.sky_from_above = HemisphereIrradiance([&](const Eigen::Vector3d& w) { return d.sky.Radiance(w); }, true);
   d.surface_light = d.sun_at_surface * std::max(sun.z(), 0.0) + d.sky_from_above;
   d.sky_from_below = HemisphereIrradiance(
       [&](const Eigen::Vector3d& w) { return BelowHorizonRadiance(options, d, w, surface_albedo); }, false);
-  d.sun_disc = d.sun_at_tanker / (kSunAngularRadiusRad * kSunAngularRadiusRad);
+  d.disc_radius_rad = SourceAngularRadiusRad(options);
+  d.sun_disc = d.sun_at_tanker / (d.disc_radius_rad * d.disc_radius_rad);
   return d;
 }
 
@@ -194,16 +206,28 @@ nlohmann::json DaylightJson(const BackgroundOptions& options) {
   const Eigen::Vector3d at_tanker = SunTransmittanceAt(options, options.altitude_m);
   const Eigen::Vector3d at_surface = SunTransmittanceAt(options, SurfaceHeight(options));
   const PreethamSky sky = MakePreethamSky(turbidity, SunInLevel(options));
-  return {{"model",
-           "sky: Preetham, Shirley and Smits 1999; sun: Kasten-Young air mass, Rayleigh (Leckner), Angstrom "
-           "aerosols, ozone (docs/rendering.md, \"Daylight\")"},
-          {"turbidity", turbidity},
-          {"wavelengths_um", kDaylightWavelengthsUm},
-          {"sun_transmittance_at_tanker", {at_tanker.x(), at_tanker.y(), at_tanker.z()}},
-          {"sun_transmittance_at_surface", {at_surface.x(), at_surface.y(), at_surface.z()}},
-          {"zenith_luminance_kcd_m2", sky.zenith.x()},
-          {"zenith_chromaticity_xy", {sky.zenith.y(), sky.zenith.z()}},
-          {"sun_disc", "rendered where in view, angular radius " + FormatFixed(kSunAngularRadiusRad, 6) + " rad"}};
+  nlohmann::json j = {
+      {"model",
+       "sky: Preetham, Shirley and Smits 1999; sun: Kasten-Young air mass, Rayleigh (Leckner), Angstrom "
+       "aerosols, ozone (docs/rendering.md, \"Daylight\")"},
+      {"turbidity", turbidity},
+      {"wavelengths_um", kDaylightWavelengthsUm},
+      {"sun_transmittance_at_tanker", {at_tanker.x(), at_tanker.y(), at_tanker.z()}},
+      {"sun_transmittance_at_surface", {at_surface.x(), at_surface.y(), at_surface.z()}},
+      {"zenith_luminance_kcd_m2", sky.zenith.x()},
+      {"zenith_chromaticity_xy", {sky.zenith.y(), sky.zenith.z()}},
+      {"sun_disc", "rendered where in view, angular radius " + FormatFixed(kSunAngularRadiusRad, 6) + " rad"}};
+  if (options.night) {
+    j["night"] = {
+        {"moonlight_lx", options.night->moonlight_lx},
+        {"source",
+         "the moon at frames.sun's direction: the daylight model for a sun of the moon's illuminance "
+         "(Jensen et al. 2001), its disc of angular radius " +
+             FormatFixed(kMoonAngularRadiusRad, 6) + " rad"},
+        {"render_scale", kNightRenderScale},
+        {"zenith_luminance_cd_m2", sky.zenith.x() * 1000.0 * options.night->moonlight_lx / kSolarIlluminanceLx}};
+  }
+  return j;
 }
 
 }  // namespace aar

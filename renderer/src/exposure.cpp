@@ -1,5 +1,6 @@
 #include "aar/renderer/exposure.h"
 
+#include "aar/dataset.h"
 #include "aar/propeller.h"
 
 namespace aar {
@@ -20,6 +21,11 @@ std::vector<RenderItem> ReceiverItems(const ReceiverModels& models, const Eigen:
       items.push_back(
           {models.propeller, tanker_from_receiver * ReceiverFromPropeller(i, propeller_rpm, time_s), models.object_id});
     }
+  }
+  for (const auto& [model, light] : models.lights) {
+    if (!light.OnAt(time_s)) continue;
+    items.push_back({model, tanker_from_receiver * Eigen::Translation3d(light.position_in_receiver),
+                     static_cast<float>(kReceiverLightsMaskId)});
   }
   return items;
 }

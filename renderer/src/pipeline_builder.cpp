@@ -19,8 +19,15 @@ VkShaderModule CreateShaderModule(VkDevice device, const uint32_t* code, size_t 
 void SpecializationConstants::AddFloat(float value) { AddInt(std::bit_cast<int32_t>(value)); }
 
 void SpecializationConstants::AddInt(int32_t value) {
-  const uint32_t id = static_cast<uint32_t>(entries_.size());
-  entries_.push_back({id, id * static_cast<uint32_t>(sizeof(uint32_t)), sizeof(uint32_t)});
+  const uint32_t id = entries_.empty() ? 0 : entries_.back().constantID + 1;
+  AddIntAt(id, value);
+}
+
+void SpecializationConstants::AddFloatAt(uint32_t id, float value) { AddIntAt(id, std::bit_cast<int32_t>(value)); }
+
+void SpecializationConstants::AddIntAt(uint32_t id, int32_t value) {
+  const uint32_t offset = static_cast<uint32_t>(words_.size() * sizeof(uint32_t));
+  entries_.push_back({id, offset, sizeof(uint32_t)});
   words_.push_back(std::bit_cast<uint32_t>(value));
 }
 

@@ -139,7 +139,7 @@ LinearImage RenderViewColor(RenderSession& session, const std::vector<BandScene>
 }  // namespace
 
 RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig& rig,
-                                const BackgroundOptions& background, Shading shading, bool shadows) {
+                                const BackgroundOptions& background, const SessionLighting& lighting) {
   RenderSession s;
   s.rig = rig;
   if (rig.sensor) s.sensor = std::make_shared<const SensorModel>(*rig.sensor);
@@ -150,8 +150,10 @@ RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig
   SceneRendererOptions render_options;
   render_options.max_anisotropy = options.anisotropy;
   render_options.background = background;
-  render_options.shading = shading;
-  render_options.shadows = shadows;
+  render_options.shading = lighting.shading;
+  render_options.shadows = lighting.shadows;
+  render_options.floodlight = lighting.floodlight;
+  s.floodlight = lighting.floodlight;
   render_options.shadow_object_id = kReceiverObjectId;
   OpenLenses(s);
   if (rig.sensor && rig.sensor->readout_ms > 0.0) {
@@ -166,6 +168,9 @@ RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig
       (side == "left" ? s.left_glare : s.right_glare)
           .emplace(s.RenderCamera(side), sun, light, rig.sensor->glare_fraction, rig.sensor->glare_core_deg);
     }
+  }
+  if (lighting.exposure_ev != 0.0 || RenderScale(background) != 1.0) {
+    s.exposure.emplace(lighting.exposure_ev, RenderScale(background));
   }
   const Intrinsics& size = s.RenderCamera("left").intrinsics;
   s.renderer = std::make_unique<SceneRenderer>(*s.context, size.width_px, size.height_px, render_options);

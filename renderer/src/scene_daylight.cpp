@@ -22,12 +22,28 @@ Eigen::Vector3d SurfaceAlbedo(const TextureMips* surface) {
 }  // namespace
 
 void SceneRenderer::SetLightConstants(const TextureMips* surface) {
-  // scene.frag: ids 0-2 the sun's direction; 3 daylight on; 4-6 the sun's
-  // light; 7-9 and 10-12 the sky's radiance A + B w.z per channel.
+  // scene.frag: ids 0-2 the sun's direction; 3-12 daylight's; 13-21 the floodlight's.
   const Eigen::Vector3f sun = sun_direction_in_tanker_.cast<float>();
   for (int i = 0; i < 3; ++i) scene_constants_.AddFloat(sun[i]);
   const BackgroundOptions& bg = options_.background;
-  if (!bg.daylight) return;
+  if (bg.daylight) SetDaylightConstants(surface);
+  if (!options_.floodlight) return;
+  // 13 on; 14-16 its place, 17-19 its axis; 20 its intensity in the units
+  // of the sun's light at 1 m (0.75 per 133,800 lx, daylight.h), at the
+  // render scale; 21 the beam's sigma.
+  const Floodlight& f = *options_.floodlight;
+  scene_constants_.AddIntAt(13, 1);
+  for (int i = 0; i < 3; ++i) scene_constants_.AddFloatAt(14 + i, static_cast<float>(f.position_in_tanker[i]));
+  for (int i = 0; i < 3; ++i) scene_constants_.AddFloatAt(17 + i, static_cast<float>(f.axis_in_tanker[i]));
+  const double units = f.intensity_cd * 0.75 / kSolarIlluminanceLx * RenderScale(bg);
+  scene_constants_.AddFloatAt(20, static_cast<float>(units));
+  scene_constants_.AddFloatAt(21, static_cast<float>(f.sigma_rad));
+}
+
+void SceneRenderer::SetDaylightConstants(const TextureMips* surface) {
+  // scene.frag: 3 daylight on; 4-6 the sun's light; 7-9 and 10-12 the sky's
+  // radiance A + B w.z per channel.
+  const BackgroundOptions& bg = options_.background;
   const Daylight d = ComputeDaylight(bg, SurfaceAlbedo(surface));
   const Eigen::Vector3d sky_a = 0.5 * (d.sky_from_above + d.sky_from_below);
   const Eigen::Vector3d sky_b = 0.75 * (d.sky_from_above - d.sky_from_below);
@@ -46,7 +62,7 @@ void SceneRenderer::SetLightConstants(const TextureMips* surface) {
   for (const Eigen::Vector3d* v : {&zenith, &d.surface_light, &d.sun_disc}) {
     for (int c = 0; c < 3; ++c) background_constants_.AddFloat(static_cast<float>((*v)[c]));
   }
-  background_constants_.AddFloat(static_cast<float>(kSunAngularRadiusRad));
+  background_constants_.AddFloat(static_cast<float>(d.disc_radius_rad));
 }
 
 }  // namespace aar

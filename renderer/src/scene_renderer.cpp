@@ -36,7 +36,8 @@ constexpr VkFormat kTruthFormat = VK_FORMAT_R32G32_SFLOAT;        // depth [m], 
 // member for member (std430 offsets 0, 64, 112; no padding).
 struct PushConstants {
   glm::mat4 clip_from_object;            // column-major, as Eigen's
-  glm::vec4 tanker_from_object_rows[3];  // rotation rows (xyz); w: metallic, roughness, 0 (Shading::kPbr; else 0)
+  glm::vec4 tanker_from_object_rows[3];  // rotation rows (xyz); w: metallic, roughness (Shading::kPbr; else 0),
+                                         // emissive 1 or 0
   glm::vec4 base_color_factor;           // linear RGBA; .a carries the object id in the ground-truth pass
 };
 static_assert(offsetof(PushConstants, tanker_from_object_rows) == 64 &&
@@ -54,6 +55,7 @@ struct SceneRenderer::GpuModel {
     int texture_set = 0;
     std::array<float, 4> base_color_factor{};
     float metallic = 0.0f, roughness = 0.0f;
+    bool emissive = false;
   };
   GpuBuffer vertices;
   GpuBuffer indices;
@@ -198,6 +200,7 @@ int SceneRenderer::AddModel(const SceneModel& model) {
       draw.base_color_factor = p.base_color_factor;
       draw.metallic = p.metallic;
       draw.roughness = p.roughness;
+      draw.emissive = p.emissive;
       gpu->draws.push_back(draw);
       v += p.vertices.size();
       i += p.indices.size();
@@ -287,6 +290,10 @@ void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Mat
     PushConstants pc{};
     const Eigen::Matrix4f clip_from_object = (clip_from_tanker * item.tanker_from_object.matrix()).cast<float>();
     pc.clip_from_object = glm::make_mat4(clip_from_object.data());
+    // Row 2 is (0, 0, 0, near) (projection.h); scene.vert reads the object's
+    // place in the tanker frame from its first three entries.
+    for (int col = 0; col < 3; ++col)
+      pc.clip_from_object[col][2] = static_cast<float>(item.tanker_from_object.translation()[col]);
     const Eigen::Matrix3f r = item.tanker_from_object.linear().cast<float>();
     for (int row = 0; row < 3; ++row)
       pc.tanker_from_object_rows[row] = glm::vec4(r(row, 0), r(row, 1), r(row, 2), 0.0f);
@@ -301,6 +308,7 @@ void SceneRenderer::Record(VkCommandBuffer cmd, Target& target, const Eigen::Mat
         pc.tanker_from_object_rows[0].w = draw.metallic;
         pc.tanker_from_object_rows[1].w = draw.roughness;
       }
+      if (!ground_truth) pc.tanker_from_object_rows[2].w = draw.emissive ? 1.0f : 0.0f;
       vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_layout_, 0, 1,
                               &texture_sets_[draw.texture_set], 0, nullptr);
       vkCmdPushConstants(cmd, pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,

@@ -14,6 +14,7 @@
 #include "aar/region.h"
 #include "aar/renderer/calib_poses.h"
 #include "aar/renderer/dataset_writer.h"
+#include "aar/renderer/daylight.h"
 #include "aar/renderer/exposure.h"
 #include "aar/renderer/msaa.h"
 #include "aar/renderer/pair_writer.h"
@@ -111,6 +112,7 @@ struct FlightPathModels {
   SceneModel receiver, tanker;
   bool with_boom = false, with_propellers = false;
   std::optional<SceneModel> boom, boom_tube, propeller;
+  std::vector<ReceiverLight> lights;  // with --receiver-lights
 };
 
 FlightPathModels LoadFlightPathModels(const RenderJobOptions& options, const std::vector<FlightSample>& path) {
@@ -125,6 +127,7 @@ FlightPathModels LoadFlightPathModels(const RenderJobOptions& options, const std
   }
   models.with_propellers = options.propeller_rpm > 0.0;
   if (models.with_propellers) models.propeller = LoadSceneModel(options.propeller_model);
+  if (options.receiver_lights) models.lights = ReceiverLightsOf(models.receiver);
   return models;
 }
 
@@ -134,8 +137,10 @@ struct FlightPathModelIndices {
   int tanker = -1, boom = -1, boom_tube = -1;
 };
 
-// Adds the models to the session's renderer: receiver, tanker, boom, boom tube, propeller.
-FlightPathModelIndices AddFlightPathModels(RenderSession& session, const FlightPathModels& models) {
+// Adds the models to the session's renderer: receiver, tanker, boom, boom
+// tube, propeller, the lights' spheres (at the background's render scale).
+FlightPathModelIndices AddFlightPathModels(RenderSession& session, const FlightPathModels& models,
+                                           const BackgroundOptions& background) {
   FlightPathModelIndices indices;
   indices.receiver.airframe = session.renderer->AddModel(models.receiver);
   indices.receiver.object_id = kReceiverObjectId;
@@ -143,6 +148,10 @@ FlightPathModelIndices AddFlightPathModels(RenderSession& session, const FlightP
   indices.boom = models.with_boom ? session.renderer->AddModel(*models.boom) : -1;
   indices.boom_tube = models.with_boom ? session.renderer->AddModel(*models.boom_tube) : -1;
   if (models.with_propellers) indices.receiver.propeller = session.renderer->AddModel(*models.propeller);
+  for (const ReceiverLight& light : models.lights) {
+    indices.receiver.lights.emplace_back(session.renderer->AddModel(LightSphereModel(light, RenderScale(background))),
+                                         light);
+  }
   return indices;
 }
 
@@ -176,11 +185,24 @@ nlohmann::json FlightPathFramesJson(const RenderJobOptions& options, const Rende
   // Absent for a global shutter, likewise.
   if (session.left_readout) frames["rolling_shutter"] = RollingShutterJson(session.readout_ms, options.readout_bands);
   if (models.with_propellers) frames["propellers"] = PropellersJson(options.propeller_rpm);
+  if (!models.lights.empty()) frames["receiver_lights"] = ReceiverLightsJson(models.lights);
   // Absent for matte shading, likewise.
   if (options.shading != Shading::kMatte) frames["shading"] = ToString(options.shading);
   if (options.shadows) {
     const Intrinsics& map = session.RenderCamera("left").intrinsics;
     frames["shadows"] = ShadowsJson(map.width_px, map.height_px);
+  }
+  if (session.floodlight) {
+    frames["floodlight"] = session.floodlight->Json();
+    frames["floodlight"]["illuminance_lx_at_aim"] = options.floodlight->illuminance_lx;
+  }
+  // Absent by day at the rig's exposure, likewise.
+  if (session.exposure) {
+    frames["camera_exposure"] = {
+        {"exposure_ev", options.exposure_ev},
+        {"render_scale", RenderScale(options.background)},
+        {"factor", session.exposure->factor()},
+        {"model", "radiance x 2^exposure_ev / render_scale before the lens and the sensor (camera_exposure.h)"}};
   }
   return frames;
 }
@@ -297,6 +319,10 @@ void RenderJobOptions::Check() const {
   if (!(propeller_rpm >= 0.0 && propeller_rpm <= 3000.0)) {
     throw Error("--propellers " + FormatFixed(propeller_rpm, 1) + ": expected 0 (none) to 3000 rpm");
   }
+  if (!(exposure_ev >= -10.0 && exposure_ev <= 24.0)) {
+    throw Error("--exposure-ev " + FormatFixed(exposure_ev, 3) + ": expected -10 to 24 (powers of two)");
+  }
+  if (floodlight) floodlight->Check();
   if (!(shutter_ms >= 0.0 && shutter_ms <= 100.0)) {
     throw Error("--shutter-ms " + FormatFixed(shutter_ms, 3) + ": expected 0 (an instant) to 100 ms");
   }
@@ -319,8 +345,14 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   if (options.shutter_ms > 0.0 || readout_ms > 0.0) CheckTimesIncrease(path, options.flight_path.string());
   const FlightPathModels models = LoadFlightPathModels(options, path);
   CheckDatasetFolderWritable(options.output);
-  RenderSession session = OpenRenderSession(options, rig, options.background, options.shading, options.shadows);
-  const FlightPathModelIndices indices = AddFlightPathModels(session, models);
+  SessionLighting lighting{options.shading, options.shadows, options.exposure_ev, std::nullopt};
+  if (options.floodlight) {
+    std::vector<Eigen::Vector3d> positions;
+    for (const FlightSample& sample : path) positions.push_back(sample.tanker_from_receiver.translation_m);
+    lighting.floodlight = MakeFloodlight(*options.floodlight, rig, positions);
+  }
+  RenderSession session = OpenRenderSession(options, rig, options.background, lighting);
+  const FlightPathModelIndices indices = AddFlightPathModels(session, models, options.background);
   const std::vector<double> exposure_offsets = ExposureOffsets(options.shutter_ms, options.time_samples);
   const std::vector<double> band_offsets =
       readout_ms > 0.0 ? ReadoutBandOffsets(readout_ms, options.readout_bands) : std::vector<double>{0.0};
@@ -351,7 +383,7 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   const std::vector<Pose> poses = CalibrationBoardPoses(rig, pose_options);
   options.selection.CheckWithin(poses.size(), "calibration board poses");
   CheckDatasetFolderWritable(options.output);
-  RenderSession session = OpenRenderSession(options, rig, BackgroundOptions{}, Shading::kMatte, false);
+  RenderSession session = OpenRenderSession(options, rig, BackgroundOptions{}, SessionLighting{});
   const int board_index = session.renderer->AddModel(board);
   const std::vector<Eigen::Vector3d> board_points = board.AllPositions();
   const BoardSpec spec;

@@ -42,6 +42,8 @@ inline constexpr const char* kBoomModelName = "boom.glb";           ///< with th
 inline constexpr const char* kBoomTubeModelName = "boom_tube.glb";  ///< with the boom: its telescoping tube
 /// Object id of the boom in the masks (docs/dataset-format.md, "Images").
 inline constexpr int kBoomMaskId = 6;
+/// Object id of the receiver's lights in the masks (with --receiver-lights).
+inline constexpr int kReceiverLightsMaskId = 7;
 inline constexpr const char* kIdealCalibrationName = "calibration_ideal.yaml";
 inline constexpr const char* kFramesDir = "frames";
 inline constexpr const char* kCalibDir = "calib";

@@ -54,6 +54,15 @@ struct DaylightOptions {
   double turbidity = 3.0;  ///< Preetham's atmospheric turbidity, 2 (very clear) to 10 (hazy)
 };
 
+/// Night (daylight.h; docs/rendering.md, "Night"): the moon in the sun's
+/// place (SunOptions give its direction), its light and the sky it
+/// scatters the daylight model's for a sun of the moon's illuminance.
+struct NightOptions {
+  /// The moon's illuminance outside the atmosphere on a surface facing it
+  /// [lx], 0 (no moon) to 1: a full moon about 0.25, a half moon 0.03.
+  double moonlight_lx = 0.25;
+};
+
 struct BackgroundOptions {
   BackgroundKind kind = BackgroundKind::kFlat;
   double altitude_m = 7000.0;           ///< tanker origin above the ground (ground = sea level) [m], 100 to 20,000
@@ -73,6 +82,8 @@ struct BackgroundOptions {
   /// the aircraft following the sun (and the sun's disc in view); none: the
   /// fixed sky and light of every dataset made without it.
   std::optional<DaylightOptions> daylight;
+  /// Night: with daylight (its turbidity), the moon where the sun would be.
+  std::optional<NightOptions> night;
 
   /// Throws aar::Error naming the command-line flag of the first value out of range (or NaN).
   void Check() const;

@@ -26,6 +26,22 @@ inline constexpr std::array<double, 3> kPlainGroundAlbedo = {0.16, 0.17, 0.12};
 inline constexpr double kSolarIlluminanceLx = 133800.0;
 /// The sun's mean angular radius [rad] (0.2666 deg).
 inline constexpr double kSunAngularRadiusRad = 0.004653;
+/// The moon's mean angular radius [rad] (0.2590 deg).
+inline constexpr double kMoonAngularRadiusRad = 0.004520;
+/// At night the shaders render radiance times this power of two, so that
+/// moonlight stays in the normal range of the half-float render targets
+/// (a white surface in 0.01 lx is 5.6e-8 in day units, below half's
+/// smallest normal 6.1e-5); the camera's exposure (camera_exposure.h)
+/// divides it out again.
+inline constexpr double kNightRenderScale = 4096.0;
+
+/// What the shaders' radiance is in day units: 1 by day, kNightRenderScale at night.
+double RenderScale(const BackgroundOptions& options);
+/// The light source's illuminance over the sun's, times RenderScale: 1 by
+/// day; at night moonlight_lx / kSolarIlluminanceLx x kNightRenderScale.
+double SourceScale(const BackgroundOptions& options);
+/// The angular radius of the source's disc: the sun's, or the moon's at night [rad].
+double SourceAngularRadiusRad(const BackgroundOptions& options);
 
 /// Relative optical air mass at a zenith angle [deg] from 0 to 90 (Kasten and
 /// Young 1989: 1 / (cos z + 0.50572 (96.07995 - z)^-1.6364)).
@@ -48,7 +64,7 @@ Eigen::Vector3d VerticalOpticalDepth(double height_m, double turbidity, double h
 Eigen::Vector3d SunTransmittance(double elevation_deg, double height_m, double turbidity, double haze_scale_height_m);
 
 /// The sun's light at the tanker, per channel: 0.75 x SunTransmittance with
-/// --daylight, else the fixed light's white 0.75.
+/// --daylight (x SourceScale: the moon's at night), else the fixed light's white 0.75.
 Eigen::Vector3d SunLightAtTanker(const BackgroundOptions& options);
 
 /// Preetham's sky for one turbidity and sun: the Perez distribution's
@@ -58,6 +74,9 @@ struct PreethamSky {
   Eigen::Vector3d zenith = Eigen::Vector3d::Zero();  ///< Y [kcd/m^2], x, y at the zenith
   Eigen::Vector3d sun_in_level = Eigen::Vector3d::UnitZ();
   double sun_zenith_rad = 0.0;
+  /// The source's illuminance over the sun's in render units (SourceScale):
+  /// Radiance and ZenithOverPerez are scaled by it, Yxy is not.
+  double scale = 1.0;
 
   /// Zenith luminance [kcd/m^2]: (4.0453 T - 4.9710) tan chi - 0.2155 T + 2.4192,
   /// chi = (4/9 - T/120) (pi - 2 theta_s).
@@ -66,8 +85,8 @@ struct PreethamSky {
   /// function at the zenith: times the Perez function of a direction, that
   /// direction's value (the background shader's kZenith).
   Eigen::Vector3d ZenithOverPerez() const;
-  /// Y [kcd/m^2], x, y of the sky in a level-frame direction; at and below
-  /// the horizontal, the horizon's value in the direction's azimuth.
+  /// Y [kcd/m^2] for the sun, x, y of the sky in a level-frame direction;
+  /// at and below the horizontal, the horizon's value in the direction's azimuth.
   Eigen::Vector3d Yxy(const Eigen::Vector3d& direction_in_level) const;
   /// The same in linear sRGB, the renderer's units (see the header comment).
   Eigen::Vector3d Radiance(const Eigen::Vector3d& direction_in_level) const;
@@ -96,6 +115,7 @@ struct Daylight {
   Eigen::Vector3d sky_from_below = Eigen::Vector3d::Zero();
   /// The sun's disc radiance seen from the tanker: E / (pi r^2) in these units, sun_at_tanker / r^2.
   Eigen::Vector3d sun_disc = Eigen::Vector3d::Zero();
+  double disc_radius_rad = kSunAngularRadiusRad;  ///< the source's angular radius (the moon's at night)
 };
 
 /// The daylight of options (daylight set, a background with a surface) over
@@ -110,7 +130,8 @@ Eigen::Vector3d BelowHorizonRadiance(const BackgroundOptions& options, const Day
                                      const Eigen::Vector3d& direction_in_level, const Eigen::Vector3d& albedo);
 
 /// The manifest's frames.background.daylight: the model, its inputs and the
-/// sun's transmittance at the tanker and at the surface.
+/// sun's transmittance at the tanker and at the surface; at night the moon's
+/// illuminance and the render scale.
 nlohmann::json DaylightJson(const BackgroundOptions& options);
 
 }  // namespace aar

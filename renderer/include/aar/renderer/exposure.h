@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "aar/flight_path.h"
+#include "aar/renderer/receiver_lights.h"
 #include "aar/renderer/scene_renderer.h"
 
 namespace aar {
@@ -26,11 +27,14 @@ struct ReceiverModels {
   int airframe = -1;
   int propeller = -1;
   float object_id = 0.0f;
+  /// With --receiver-lights: each light's sphere model and the light.
+  std::vector<std::pair<int, ReceiverLight>> lights;
 };
 
 /// The receiver's items at `time_s` with the airframe at `tanker_from_receiver`:
 /// the airframe, and each propeller at its hub turned to its angle at
-/// `time_s` (propeller.h), all with the receiver's object id.
+/// `time_s` (propeller.h), all with the receiver's object id; and the
+/// lights on at `time_s`, with theirs (kReceiverLightsMaskId).
 std::vector<RenderItem> ReceiverItems(const ReceiverModels& models, const Eigen::Isometry3d& tanker_from_receiver,
                                       double propeller_rpm, double time_s);
 

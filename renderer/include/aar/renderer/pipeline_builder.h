@@ -16,11 +16,15 @@ namespace aar {
 /// A shader module from SPIR-V words; throws aar::Error naming the call on failure.
 VkShaderModule CreateShaderModule(VkDevice device, const uint32_t* code, size_t bytes);
 
-/// Specialization constants with ids 0, 1, 2, ... in the order added, 32 bits each.
+/// Specialization constants, 32 bits each: ids 0, 1, 2, ... in the order added, or given.
 class SpecializationConstants {
  public:
+  /// The next constant id: one after the last added (0 for the first).
   void AddFloat(float value);
   void AddInt(int32_t value);
+  /// A constant of a given id, leaving the ids between unset (the shader's defaults).
+  void AddFloatAt(uint32_t id, float value);
+  void AddIntAt(uint32_t id, int32_t value);
   bool empty() const { return entries_.empty(); }
   /// Valid while this object lives and nothing is added.
   const VkSpecializationInfo* Info();

@@ -12,6 +12,7 @@
 
 #include "aar/dataset.h"
 #include "aar/renderer/background.h"
+#include "aar/renderer/camera_exposure.h"
 #include "aar/renderer/lens_distortion.h"
 #include "aar/renderer/msaa.h"
 #include "aar/renderer/pair_writer.h"
@@ -38,6 +39,10 @@ struct RenderSession {
   std::optional<LensResampler> left_lens, right_lens;
   // The sun's veiling glare on each pinhole render, where the rig's sensor declares it.
   std::optional<SunGlare> left_glare, right_glare;
+  // The camera's exposure and the night's render scale divided out; empty
+  // where their factor is 1 (by day at the rig's exposure).
+  std::optional<CameraExposure> exposure;
+  std::optional<Floodlight> floodlight;  // the tanker's floodlight, where it shines
   // The rig's sensor, its fixed patterns drawn once for the whole run; null without one.
   std::shared_ptr<const SensorModel> sensor;
   // A rolling shutter (the sensor's readout_ms > 0): the readout time and
@@ -53,12 +58,13 @@ struct RenderSession {
     return side == "left" ? left_readout : right_readout;
   }
   /// The effects a view's radiance passes through before its encoding, in
-  /// order (view_effect.h): the sun's glare, the lens's resampling, then
-  /// the sensor. A new image effect is made in OpenRenderSession and listed here.
+  /// order (view_effect.h): the sun's glare, the camera's exposure, the
+  /// lens's resampling, then the sensor. A new image effect is made in OpenRenderSession and listed here.
   std::vector<const ViewEffect*> ViewEffects(const std::string& side) const {
     std::vector<const ViewEffect*> effects;
     const std::optional<SunGlare>& glare = side == "left" ? left_glare : right_glare;
     if (glare) effects.push_back(&*glare);
+    if (exposure) effects.push_back(&*exposure);
     if (Lens(side)) effects.push_back(&*Lens(side));
     if (sensor) effects.push_back(sensor.get());
     return effects;
@@ -71,13 +77,21 @@ struct RenderSession {
   }
 };
 
+/// How the aircraft are lit beyond the background's sun and sky, and how
+/// the cameras expose the scene.
+struct SessionLighting {
+  Shading shading = Shading::kMatte;  ///< matte, or the models' glTF materials
+  bool shadows = false;               ///< the sun's shadows on the receiver
+  double exposure_ev = 0.0;           ///< the camera's exposure (camera_exposure.h)
+  std::optional<Floodlight> floodlight;
+};
+
 /// Opens the device (options.device), plans MSAA (options.msaa), makes the
 /// lens resamplers, the sensor model and the readout bands
 /// (options.readout_bands) of `rig`, and the scene renderer at the size the
-/// scene is rendered with, over `background`, lit with `shading`, with the
-/// sun's shadows on the receiver or not.
+/// scene is rendered with, over `background`, lit and exposed as `lighting` says.
 RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig& rig,
-                                const BackgroundOptions& background, Shading shading, bool shadows);
+                                const BackgroundOptions& background, const SessionLighting& lighting);
 
 /// The scene of one readout band of a rolling shutter, or of the whole frame
 /// (a global shutter, or what does not move): at each instant of its

@@ -32,6 +32,8 @@ struct Primitive {
   int texture = -1;                                       ///< index into SceneModel::textures, -1 for none
   float metallic = 1.0f;   ///< glTF metallicFactor (its default 1 when the material omits it)
   float roughness = 1.0f;  ///< glTF roughnessFactor (perceptual roughness; default 1)
+  /// A light: base_color_factor's RGB is its radiance, unlit (receiver_lights.h).
+  bool emissive = false;
 };
 
 struct SceneModel {

@@ -14,6 +14,7 @@
 
 #include "aar/image.h"
 #include "aar/renderer/background.h"
+#include "aar/renderer/floodlight.h"
 #include "aar/renderer/geometry_rect.h"
 #include "aar/renderer/gpu_resources.h"
 #include "aar/renderer/msaa.h"
@@ -61,6 +62,9 @@ struct SceneRendererOptions {
   /// object id `shadow_object_id` (the receiver and its propellers).
   bool shadows = false;
   float shadow_object_id = 1.0f;
+  /// The tanker's floodlight on the aircraft (floodlight.h), at the
+  /// background's render scale (daylight.h); none: no floodlight.
+  std::optional<Floodlight> floodlight;
 };
 
 class SceneRenderer {
@@ -144,11 +148,12 @@ class SceneRenderer {
   VkShaderModule background_frag_ = VK_NULL_HANDLE;
   VkShaderModule background_truth_frag_ = VK_NULL_HANDLE;
   /// scene.frag's and background.frag's specialization constants: the sun's
-  /// direction, and daylight's light and sky (scene_daylight.cpp).
+  /// direction, daylight's light and sky, the floodlight (scene_daylight.cpp).
   SpecializationConstants scene_constants_;
   SpecializationConstants background_constants_;
   /// Fills them; `surface` is the background's texture (none: the plain ground).
   void SetLightConstants(const TextureMips* surface);
+  void SetDaylightConstants(const TextureMips* surface);
   Eigen::Vector3d sun_direction_in_tanker_ =
       Eigen::Vector3d::UnitZ();                   ///< the same in double (unit: a rotated unit vector)
   std::unique_ptr<ShadowMaps> shadows_;           ///< with options_.shadows

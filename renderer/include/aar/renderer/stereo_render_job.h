@@ -6,12 +6,14 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "aar/data_path.h"
 #include "aar/frame_selection.h"
 #include "aar/renderer/background.h"
+#include "aar/renderer/floodlight.h"
 #include "aar/renderer/shading.h"
 
 namespace aar {
@@ -35,6 +37,9 @@ struct RenderJobOptions {
   /// Engine speed [rpm]: 0 leaves the propellers out (the thesis's receiver);
   /// otherwise both turn at this speed, 0 to 3000.
   double propeller_rpm = 0.0;
+  /// The receiver's position, anti-collision and strobe lights
+  /// (receiver_lights.h; render job).
+  bool receiver_lights = false;
   /// Exposure time of each frame [ms], centred on the sample's time: 0 is an
   /// instant (no motion blur); otherwise the receiver and its propellers
   /// move during the exposure (docs/rendering.md, "Motion blur"), 0 to 100.
@@ -53,6 +58,13 @@ struct RenderJobOptions {
   /// "Shadows"): what every model (tanker, boom, receiver, propellers) casts
   /// on the receiver and its propellers.
   bool shadows = false;
+  /// The camera's exposure relative to the one the rig is stated for [EV,
+  /// powers of two] (render job; camera_exposure.h), -10 to 24: 0 by day;
+  /// at night, what a camera gains from a longer shutter and a wider
+  /// aperture (the calibration boards are shot by day, at 0).
+  double exposure_ev = 0.0;
+  /// The tanker's floodlight on the receiver (floodlight.h; render job).
+  std::optional<FloodlightOptions> floodlight;
   std::filesystem::path flight_path = DataFile("flightpaths/conops.csv");  ///< flight path (render job)
   int msaa = 16;                                                           ///< 1, 4, 8, 16 or 32 samples per pixel
   float anisotropy = 1.0f;   ///< texture anisotropic filtering (1 = trilinear)
