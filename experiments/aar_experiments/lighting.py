@@ -24,6 +24,15 @@ then with daylight, the glTF materials and the sun's shadows (`--shading pbr
 --shadows`) for the default sun and four others, and the sun in view: the
 tanker pitched 10 deg nose down and the sun 2 deg up aft, its disc near the
 top of the image.
+
+Then the night, through the full sensor model (`scenes/rig-noisy.json`:
+shot and read noise, blur, RGGB mosaic), whose noise at low light is what
+makes it honest: the baseline is that rig by day over the terrain with
+daylight; at night a full moon (0.25 lx) and the receiver's lights
+(`--night --receiver-lights`), the camera's exposure 6 EV above the rig's
+(`--exposure-ev 6`: a 4 ms shutter at f/1.4 against the day's 0.5 ms at
+f/4), with the tanker's floodlight giving 400 lx or 100 lx at the contact
+position, or with the moon alone.
 """
 
 import json
@@ -65,6 +74,17 @@ TERRAIN_CASES = {
              ("terrain-sun-in-view", "daylight, pbr, shadows, sun in view (tanker pitch 10, azimuth 180, elevation 2)",
               REALISTIC + ("--tanker-pitch", "10", "--sun-azimuth", "180", "--sun-elevation", "2"))),
 }
+NOISY = ("--rig", "scenes/rig-noisy.json")
+NIGHT = NOISY + TERRAIN + ("--night", "--receiver-lights", "--exposure-ev", "6")
+# At night, through the sensor model: (key, label, render flags); the first is the group's baseline.
+NIGHT_CASES = {
+    "quick": (("night-day", "by day (daylight)", NOISY + TERRAIN + ("--daylight",)),
+              ("night-flood-400", "night, floodlight 400 lx", NIGHT + ("--floodlight", "400"))),
+    "full": (("night-day", "by day (daylight)", NOISY + TERRAIN + ("--daylight",)),
+             ("night-flood-400", "night, floodlight 400 lx", NIGHT + ("--floodlight", "400")),
+             ("night-flood-100", "night, floodlight 100 lx", NIGHT + ("--floodlight", "100")),
+             ("night-moon", "night, full moon alone", NIGHT)),
+}
 
 
 def _flat_render_flags(sun, shading):
@@ -80,7 +100,8 @@ def _cases(mode):
         flat = [(sun, shading) for sun in SUNS[mode] for shading in SHADINGS]
     cases = [("flat", _key(sun, shading), _label(sun, shading), _flat_render_flags(sun, shading))
              for sun, shading in flat]
-    return cases + [("terrain", key, label, flags) for key, label, flags in TERRAIN_CASES[mode]]
+    return (cases + [("terrain", key, label, flags) for key, label, flags in TERRAIN_CASES[mode]] +
+            [("night", key, label, flags) for key, label, flags in NIGHT_CASES[mode]])
 
 
 def _label(sun, shading):
@@ -96,13 +117,16 @@ def _key(sun, shading):
 GROUPS = (("flat", "default", "over the flat sky, the fixed light",
            "in parentheses the ratio to the default sun's with matte shading"),
           ("terrain", "terrain", "over terrain, daylight and shadows",
-           "in parentheses the ratio to the fixed light over the same terrain"))
+           "in parentheses the ratio to the fixed light over the same terrain"),
+          ("night", "night-day", "at night, through the sensor model",
+           "in parentheses the ratio to the same sensor by day"))
 
 
 @register("lighting", order=8,
           help="beyond the thesis: the pose error against the sun's azimuth and elevation (regions B and C, "
                "every 10th frame at x16, matte and pbr shading), and over terrain with daylight, shadows and the "
-               "sun in view; --quick: two frames at x4, two suns and two terrain cases)")
+               "sun in view, and at night with the moon, the receiver's lights and the tanker's floodlight through "
+               "the sensor model; --quick: two frames at x4, two suns, two terrain and two night cases)")
 def run(ctx):
     mode = "quick" if ctx.quick else "full"
     msaa, sel = MSAA[mode], SELECTION[mode]
@@ -129,7 +153,10 @@ def run(ctx):
             rows, stage_rows = [], []
             for _, key, label, _ in cases:
                 r = results[key]["regions"].get(region)
-                if r is None or r["mae"] is None:
+                if r is None:
+                    continue
+                if r["mae"] is None:
+                    rows.append([label] + ["-"] * len(COMPONENT_HEADERS) + [f"{r['ok']}/{r['frames']}"])
                     continue
                 ratios = [(v / b if b else None) for v, b in zip(r["mae"], base[region]["mae"])]
                 rows.append([label] + [fmt(v) + ("" if key == base_key or q is None else f" ({q:.2f})")
