@@ -27,6 +27,33 @@ std::string Text(double value) {
   return o.str();
 }
 
+std::vector<FlareGhost> GhostsFromJson(const nlohmann::json& j, const std::string& where) {
+  if (!j.is_array()) throw Error(where + ": sensor.flare_ghosts must be an array of ghosts");
+  std::vector<FlareGhost> ghosts;
+  for (size_t i = 0; i < j.size(); ++i) {
+    const nlohmann::json& g = j[i];
+    const std::string at = where + ": sensor.flare_ghosts[" + std::to_string(i) + "]";
+    if (!g.is_object()) throw Error(at + " must be an object");
+    for (const auto& item : g.items()) {
+      if (item.key() != "position" && item.key() != "radius_px" && item.key() != "fraction") {
+        throw Error(at + "." + item.key() + " is not a ghost field (position, radius_px, fraction)");
+      }
+    }
+    FlareGhost ghost;
+    for (const char* key : {"position", "radius_px", "fraction"}) {
+      if (!g.contains(key)) throw Error(at + " lacks " + key);
+      if (!g.at(key).is_number() || !std::isfinite(g.at(key).get<double>())) {
+        throw Error(at + "." + key + " must be a finite number, not " + g.at(key).dump());
+      }
+    }
+    ghost.position = g.at("position").get<double>();
+    ghost.radius_px = g.at("radius_px").get<double>();
+    ghost.fraction = g.at("fraction").get<double>();
+    ghosts.push_back(ghost);
+  }
+  return ghosts;
+}
+
 }  // namespace
 
 double SensorParams::GainDnPerElectron() const {
@@ -67,13 +94,37 @@ void SensorParams::Check(const std::string& where) const {
   if (!(glare_core_deg >= 0.01 && glare_core_deg <= 10.0)) {
     throw Error(at + "glare_core_deg " + Text(glare_core_deg) + " must be in [0.01, 10] [deg]");
   }
+  if (!(blooming >= 0.0 && blooming <= 1.0)) {
+    throw Error(at + "blooming " + Text(blooming) + " must be in [0, 1] (0: the drain takes every excess electron)");
+  }
+  if (!(smear >= 0.0 && smear <= 0.1)) {
+    throw Error(at + "smear " + Text(smear) + " must be in [0, 0.1] (transfer time over exposure time)");
+  }
+  if (flare_ghosts.size() > kMaxFlareGhosts) {
+    throw Error(at + "flare_ghosts: " + std::to_string(flare_ghosts.size()) + " ghosts, at most " +
+                std::to_string(kMaxFlareGhosts));
+  }
+  for (size_t i = 0; i < flare_ghosts.size(); ++i) {
+    const FlareGhost& g = flare_ghosts[i];
+    const std::string ghost = at + "flare_ghosts[" + std::to_string(i) + "].";
+    if (!(g.position >= -2.0 && g.position <= 2.0)) {
+      throw Error(ghost + "position " + Text(g.position) + " must be in [-2, 2] (sun - centre)");
+    }
+    if (!(g.radius_px >= 0.5 && g.radius_px <= 2000.0)) {
+      throw Error(ghost + "radius_px " + Text(g.radius_px) + " must be in [0.5, 2000] [px]");
+    }
+    if (!(g.fraction > 0.0 && g.fraction <= 0.01)) {
+      throw Error(ghost + "fraction " + Text(g.fraction) + " must be in (0, 0.01] (of the sun's light)");
+    }
+  }
 }
 
 SensorParams SensorFromJson(const nlohmann::json& j, const std::string& where) {
   if (!j.is_object()) throw Error(where + ": sensor must be an object");
-  static const std::set<std::string> known = {
-      "seed",           "exposure_e",    "full_well_e", "read_noise_e", "prnu",           "dsnu_e",        "adc_bits",
-      "black_level_dn", "blur_sigma_px", "bayer",       "readout_ms",   "glare_fraction", "glare_core_deg"};
+  static const std::set<std::string> known = {"seed",           "exposure_e", "full_well_e", "read_noise_e",
+                                              "prnu",           "dsnu_e",     "adc_bits",    "black_level_dn",
+                                              "blur_sigma_px",  "bayer",      "readout_ms",  "glare_fraction",
+                                              "glare_core_deg", "blooming",   "smear",       "flare_ghosts"};
   for (const auto& item : j.items()) {
     if (!known.contains(item.key())) {
       throw Error(where + ": sensor." + item.key() + " is not a sensor field (docs/dataset-format.md)");
@@ -100,6 +151,9 @@ SensorParams SensorFromJson(const nlohmann::json& j, const std::string& where) {
   if (j.contains("readout_ms")) s.readout_ms = Number(j, "readout_ms", where);
   if (j.contains("glare_fraction")) s.glare_fraction = Number(j, "glare_fraction", where);
   if (j.contains("glare_core_deg")) s.glare_core_deg = Number(j, "glare_core_deg", where);
+  if (j.contains("blooming")) s.blooming = Number(j, "blooming", where);
+  if (j.contains("smear")) s.smear = Number(j, "smear", where);
+  if (j.contains("flare_ghosts")) s.flare_ghosts = GhostsFromJson(j.at("flare_ghosts"), where);
   if (j.contains("bayer")) {
     const nlohmann::json& b = j.at("bayer");
     if (b == "none") {
@@ -129,6 +183,15 @@ nlohmann::json SensorToJson(const SensorParams& s) {
   if (s.glare_fraction > 0.0) {
     j["glare_fraction"] = s.glare_fraction;
     j["glare_core_deg"] = s.glare_core_deg;
+  }
+  if (s.blooming > 0.0) j["blooming"] = s.blooming;
+  if (s.smear > 0.0) j["smear"] = s.smear;
+  if (!s.flare_ghosts.empty()) {
+    nlohmann::json ghosts = nlohmann::json::array();
+    for (const FlareGhost& g : s.flare_ghosts) {
+      ghosts.push_back({{"position", g.position}, {"radius_px", g.radius_px}, {"fraction", g.fraction}});
+    }
+    j["flare_ghosts"] = ghosts;
   }
   return j;
 }

@@ -68,6 +68,18 @@ nlohmann::json SensorJson(const SensorParams& sensor) {
       "full_well_e, plus dsnu_e * n_pixel and read_noise_e * n; DN = round(K * electrons + black_level_dn) in "
       "[0, 2^adc_bits - 1]; written as (DN - black_level_dn) / (K * exposure_e)";
   j["optics"] = "Gaussian PSF, sigma blur_sigma_px, cut at 3 sigma, in linear light before the noise";
+  if (sensor.blooming > 0.0 || sensor.smear > 0.0) {
+    j["charge_spill"] =
+        "on the mean electrons before the shot noise, per column (of each channel; of the mosaic): + smear * the "
+        "column's mean, then blooming * each pixel's excess over full_well_e spilled half up and half down, filling "
+        "each neighbour to full_well_e before going on, lost past the image's edge; the rest of the excess drained";
+  }
+  if (!sensor.flare_ghosts.empty()) {
+    j["lens_flare"] =
+        "ghosts of the sun on the pinhole render: discs of radius_px at c + position (s - c), c the principal point, "
+        "s the sun's projection, each spreading fraction x pi S cos(alpha) uniformly over its solid angle, before "
+        "the exposure, lens and sensor";
+  }
   j["demosaicing"] = sensor.bayer == BayerPattern::kNone ? "none" : "bilinear";
   j["noise"] =
       "counter-based: splitmix64 of (seed, stream, frames 0 / calib 1, index, camera 0 left / 1 right, sample), "
@@ -161,12 +173,18 @@ RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig
     s.left_readout.emplace(rig.left.intrinsics, s.RenderCamera("left").intrinsics, options.readout_bands);
     s.right_readout.emplace(rig.right.intrinsics, s.RenderCamera("right").intrinsics, options.readout_bands);
   }
-  if (rig.sensor && rig.sensor->glare_fraction > 0.0) {
+  if (rig.sensor && (rig.sensor->glare_fraction > 0.0 || !rig.sensor->flare_ghosts.empty())) {
     const Eigen::Vector3d sun = LevelFromTanker(background).transpose() * SunInLevel(background);
     const Eigen::Vector3d light = SunLightAtTanker(background);
     for (const std::string side : {"left", "right"}) {
-      (side == "left" ? s.left_glare : s.right_glare)
-          .emplace(s.RenderCamera(side), sun, light, rig.sensor->glare_fraction, rig.sensor->glare_core_deg);
+      if (rig.sensor->glare_fraction > 0.0) {
+        (side == "left" ? s.left_glare : s.right_glare)
+            .emplace(s.RenderCamera(side), sun, light, rig.sensor->glare_fraction, rig.sensor->glare_core_deg);
+      }
+      if (!rig.sensor->flare_ghosts.empty()) {
+        (side == "left" ? s.left_flare : s.right_flare)
+            .emplace(s.RenderCamera(side), sun, light, rig.sensor->flare_ghosts);
+      }
     }
   }
   if (lighting.exposure_ev != 0.0 || RenderScale(background) != 1.0) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "aar/renderer/bayer.h"
+#include "aar/renderer/charge_spill.h"
 #include "aar/renderer/optical_blur.h"
 
 namespace aar {
@@ -56,12 +57,16 @@ class PhotonTransfer {
         temporal_key_(
             Mix(Mix(Mix(Mix(sensor.seed, kTemporalStream), exposure.sequence), exposure.index), exposure.camera)) {}
 
+  // Mean photo-electrons of a value, with its pixel's gain (PRNU).
+  double MeanElectrons(float radiance, double pixel_gain) const {
+    return std::max(0.0, static_cast<double>(radiance) * s_.exposure_e * pixel_gain);
+  }
+
   // `sample`: the value's place in the image (pixel * 3 + channel, or the
-  // pixel under a mosaic); `pixel_gain` and `dark_e` its fixed pattern.
-  float Measure(float radiance, uint64_t sample, double pixel_gain, double dark_e) const {
+  // pixel under a mosaic); `photo_mean` its mean photo-electrons (after
+  // the smear and blooming), `dark_e` its fixed dark offset.
+  float Measure(double photo_mean, uint64_t sample, double dark_e) const {
     const NormalPair temporal = Normals(Mix(temporal_key_, sample));
-    // Mean photo-electrons, with this pixel's gain (PRNU).
-    const double photo_mean = std::max(0.0, static_cast<double>(radiance) * s_.exposure_e * pixel_gain);
     // Shot noise: Poisson, variance = mean, drawn as its Gaussian approximation; clipped at the full well.
     const double photo = std::clamp(photo_mean + std::sqrt(photo_mean) * temporal.first, 0.0, s_.full_well_e);
     // This pixel's dark offset (DSNU) and the read noise.
@@ -111,24 +116,31 @@ LinearImage SensorModel::Apply(const LinearImage& radiance, const SensorExposure
   const PhotonTransfer transfer(params_, exposure);
   const int width = blurred.width;
   const int height = blurred.height;
+  const ChargeSpillOptions spill{params_.full_well_e, params_.blooming, params_.smear};
   if (params_.bayer == BayerPattern::kNone) {
     const FixedPattern& fixed = Pattern(exposure.camera, blurred.rgb.size());
+    std::vector<double> electrons(blurred.rgb.size());
+    for (size_t i = 0; i < electrons.size(); ++i)
+      electrons[i] = transfer.MeanElectrons(blurred.rgb[i], fixed.pixel_gain[i]);
+    SpillCharge(electrons, width, height, 3, spill);
     LinearImage out = blurred;
-    for (size_t i = 0; i < out.rgb.size(); ++i) {
-      out.rgb[i] = transfer.Measure(blurred.rgb[i], i, fixed.pixel_gain[i], fixed.dark_e[i]);
-    }
+    for (size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = transfer.Measure(electrons[i], i, fixed.dark_e[i]);
     return out;
   }
   // RGGB: each pixel measures the one channel its filter passes (ideal filters, no crosstalk).
-  const FixedPattern& fixed = Pattern(exposure.camera, static_cast<size_t>(width) * height);
-  std::vector<float> mosaic(static_cast<size_t>(width) * height);
+  const size_t pixels = static_cast<size_t>(width) * height;
+  const FixedPattern& fixed = Pattern(exposure.camera, pixels);
+  std::vector<double> electrons(pixels);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const size_t pixel = static_cast<size_t>(y) * width + x;
-      mosaic[pixel] = transfer.Measure(blurred.rgb[3 * pixel + RggbChannel(y, x)], pixel, fixed.pixel_gain[pixel],
-                                       fixed.dark_e[pixel]);
+      electrons[pixel] = transfer.MeanElectrons(blurred.rgb[3 * pixel + RggbChannel(y, x)], fixed.pixel_gain[pixel]);
     }
   }
+  SpillCharge(electrons, width, height, 1, spill);
+  std::vector<float> mosaic(pixels);
+  for (size_t pixel = 0; pixel < pixels; ++pixel)
+    mosaic[pixel] = transfer.Measure(electrons[pixel], pixel, fixed.dark_e[pixel]);
   return DemosaicRggbBilinear(mosaic, width, height);
 }
 

@@ -47,6 +47,20 @@ TEST(RigSensor, MissingFieldsTakeTheDefaultsAndTheBlockRoundTrips) {
   EXPECT_EQ(glare.sensor->glare_fraction, 0.02);
   EXPECT_EQ(RigToJson(glare).at("sensor").at("glare_core_deg"), 0.8);
   EXPECT_EQ(RigToJson(RigFromJson(RigToJson(glare), "again.json")), RigToJson(glare));
+  EXPECT_FALSE(written.at("sensor").contains("blooming"));  // no blooming or smear: the same
+  EXPECT_FALSE(written.at("sensor").contains("smear"));
+  const StereoRig ccd = RigFromJson(RigWithSensor({{"blooming", 0.7}, {"smear", 0.002}}), "c.json");
+  EXPECT_EQ(ccd.sensor->blooming, 0.7);
+  EXPECT_EQ(RigToJson(ccd).at("sensor").at("smear"), 0.002);
+  EXPECT_EQ(RigToJson(RigFromJson(RigToJson(ccd), "again.json")), RigToJson(ccd));
+  EXPECT_FALSE(written.at("sensor").contains("flare_ghosts"));
+  const StereoRig flare = RigFromJson(
+      RigWithSensor({{"flare_ghosts", {{{"position", -0.8}, {"radius_px", 25.0}, {"fraction", 2e-4}}}}}), "f.json");
+  ASSERT_EQ(flare.sensor->flare_ghosts.size(), 1u);
+  EXPECT_EQ(flare.sensor->flare_ghosts[0].position, -0.8);
+  EXPECT_EQ(flare.sensor->flare_ghosts[0].radius_px, 25.0);
+  EXPECT_EQ(flare.sensor->flare_ghosts[0].fraction, 2e-4);
+  EXPECT_EQ(RigToJson(RigFromJson(RigToJson(flare), "again.json")), RigToJson(flare));
 }
 
 // Off by default: the committed pinhole rig has no sensor and is written back
@@ -82,6 +96,18 @@ TEST(RigSensor, BadSensorEntriesAreRefusedNamingTheFileAndField) {
       {{{"seed", -3}}, "r.json: sensor.seed -3 is outside"},
       {{{"glare_fraction", 0.5}}, "r.json: sensor.glare_fraction 0.5 must be in [0, 0.2]"},
       {{{"glare_fraction", 0.02}, {"glare_core_deg", 0.0}}, "r.json: sensor.glare_core_deg 0 must be in [0.01, 10]"},
+      {{{"blooming", 1.5}}, "r.json: sensor.blooming 1.5 must be in [0, 1]"},
+      {{{"smear", -0.01}}, "r.json: sensor.smear -0.01 must be in [0, 0.1]"},
+      {{{"flare_ghosts", 3}}, "r.json: sensor.flare_ghosts must be an array of ghosts"},
+      {{{"flare_ghosts", {{{"position", 0.5}, {"radius_px", 10.0}}}}}, "r.json: sensor.flare_ghosts[0] lacks fraction"},
+      {{{"flare_ghosts", {{{"position", 0.5}, {"radius_px", 10.0}, {"fraction", 1e-4}, {"tint", 1}}}}},
+       "r.json: sensor.flare_ghosts[0].tint is not a ghost field"},
+      {{{"flare_ghosts", {{{"position", "a"}, {"radius_px", 10.0}, {"fraction", 1e-4}}}}},
+       "r.json: sensor.flare_ghosts[0].position must be a finite number"},
+      {{{"flare_ghosts", {{{"position", 3.0}, {"radius_px", 10.0}, {"fraction", 1e-4}}}}},
+       "r.json: sensor.flare_ghosts[0].position 3 must be in [-2, 2]"},
+      {{{"flare_ghosts", {{{"position", 0.5}, {"radius_px", 10.0}, {"fraction", 0.1}}}}},
+       "r.json: sensor.flare_ghosts[0].fraction 0.1 must be in (0, 0.01]"},
   };
   for (const auto& [sensor, message] : bad) {
     const std::string error = ErrorOf([&] { RigFromJson(RigWithSensor(sensor), "r.json"); });

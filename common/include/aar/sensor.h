@@ -5,11 +5,23 @@
 // ADC), an optical blur and an optional Bayer mosaic. The parameters live
 // here, beside the rig; the renderer applies them (renderer/sensor_model.h).
 
+#include <cstddef>
 #include <cstdint>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
+#include <vector>
 
 namespace aar {
+
+/// One ghost of lens flare (renderer/lens_flare.h): an out-of-focus image
+/// of the aperture that light from the sun makes after two reflections
+/// between the lens's surfaces, on the line from the image centre through
+/// the sun's image.
+struct FlareGhost {
+  double position = -1.0;   ///< where along that line: centre + position (sun - centre); < 0 across the centre
+  double radius_px = 20.0;  ///< the disc's radius [px]
+  double fraction = 1e-4;   ///< the share of the sun's light the ghost receives
+};
 
 /// Colour filter array in front of the pixels.
 enum class BayerPattern {
@@ -41,6 +53,19 @@ struct SensorParams {
   /// angle of its spread function G(theta) ~ core / (core^2 + theta^2)^1.5.
   double glare_fraction = 0.0;
   double glare_core_deg = 0.5;
+  /// Blooming (renderer/sensor_model.h): the share of the charge beyond a
+  /// pixel's full well that spills into its column's neighbours, half up
+  /// and half down, filling each to its full well before going on; the
+  /// rest the anti-blooming drain takes. 0 = none (a drained CMOS pixel).
+  double blooming = 0.0;
+  /// Smear: the readout's transfer time over the exposure time; each pixel
+  /// gains this times its column's mean photo-electrons (the light that
+  /// falls on the column while its charge moves through it). 0 = none.
+  double smear = 0.0;
+  /// Lens flare's ghosts of the sun (renderer/lens_flare.h), at most
+  /// kMaxFlareGhosts; none by default.
+  std::vector<FlareGhost> flare_ghosts;
+  static constexpr size_t kMaxFlareGhosts = 16;
 
   /// System gain K [DN/e-]: the full well maps to the ADC's largest code,
   /// (2^adc_bits - 1 - black_level_dn) / full_well_e.
@@ -53,8 +78,8 @@ struct SensorParams {
 /// above), an unknown field is refused; `where` names the file.
 SensorParams SensorFromJson(const nlohmann::json& j, const std::string& where);
 /// Every field (JSON object keys are sorted); readout_ms only for a rolling
-/// shutter and the glare's fields only with glare, so a sensor without them
-/// keeps the record it always had.
+/// shutter, the glare's fields only with glare, blooming and smear only
+/// when not 0, flare_ghosts only when there are any, so a sensor without them keeps the record it always had.
 nlohmann::json SensorToJson(const SensorParams& sensor);
 
 }  // namespace aar

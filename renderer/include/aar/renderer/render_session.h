@@ -14,6 +14,7 @@
 #include "aar/renderer/background.h"
 #include "aar/renderer/camera_exposure.h"
 #include "aar/renderer/lens_distortion.h"
+#include "aar/renderer/lens_flare.h"
 #include "aar/renderer/msaa.h"
 #include "aar/renderer/pair_writer.h"
 #include "aar/renderer/rolling_shutter.h"
@@ -39,6 +40,8 @@ struct RenderSession {
   std::optional<LensResampler> left_lens, right_lens;
   // The sun's veiling glare on each pinhole render, where the rig's sensor declares it.
   std::optional<SunGlare> left_glare, right_glare;
+  // Lens flare's ghosts of the sun on each pinhole render, where the rig's sensor declares them.
+  std::optional<LensFlare> left_flare, right_flare;
   // The camera's exposure and the night's render scale divided out; empty
   // where their factor is 1 (by day at the rig's exposure).
   std::optional<CameraExposure> exposure;
@@ -58,12 +61,14 @@ struct RenderSession {
     return side == "left" ? left_readout : right_readout;
   }
   /// The effects a view's radiance passes through before its encoding, in
-  /// order (view_effect.h): the sun's glare, the camera's exposure, the
+  /// order (view_effect.h): the sun's glare, the lens flare's ghosts, the camera's exposure, the
   /// lens's resampling, then the sensor. A new image effect is made in OpenRenderSession and listed here.
   std::vector<const ViewEffect*> ViewEffects(const std::string& side) const {
     std::vector<const ViewEffect*> effects;
     const std::optional<SunGlare>& glare = side == "left" ? left_glare : right_glare;
     if (glare) effects.push_back(&*glare);
+    const std::optional<LensFlare>& flare = side == "left" ? left_flare : right_flare;
+    if (flare) effects.push_back(&*flare);
     if (exposure) effects.push_back(&*exposure);
     if (Lens(side)) effects.push_back(&*Lens(side));
     if (sensor) effects.push_back(sensor.get());
