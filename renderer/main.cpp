@@ -6,12 +6,9 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
-#include <charconv>
-#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -24,8 +21,7 @@
 #include "aar/renderer/msaa.h"
 #include "aar/renderer/stereo_render_job.h"
 #include "aar/renderer/vulkan_context.h"
-#include "aar/solar_position.h"
-#include "aar/text.h"
+#include "job_flags.h"
 
 namespace {
 
@@ -65,242 +61,6 @@ const Command& CommandNamed(const char* name) {
 /// The parser of one subcommand; a repeated flag: the last wins.
 void ConfigureApp(CLI::App& app) { app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast); }
 
-/// "30,45" for {30, 45}; "none" for no far boards.
-std::string FarBoardsText(const std::vector<double>& distances_m) {
-  std::string text;
-  for (const double d : distances_m) {
-    char buffer[32];
-    const auto end = std::to_chars(buffer, buffer + sizeof(buffer), d).ptr;  // shortest round-trip form
-    text += (text.empty() ? "" : ",") + std::string(buffer, end);
-  }
-  return text.empty() ? "none" : text;
-}
-
-/// Parses --far-boards: comma-separated distances [m], or "none".
-std::vector<double> ParseFarBoards(const std::string& text) {
-  std::vector<double> distances_m;
-  if (text == "none") return distances_m;
-  for (const std::string& field : aar::SplitCsvLine(text))
-    distances_m.push_back(aar::ParseFiniteDouble(field, "--far-boards"));
-  return distances_m;
-}
-
-/// Flags shared by render, calib and bench; the defaults are RenderJobOptions'.
-struct JobFlags {
-  aar::RenderJobOptions job;
-  std::string frames;
-  std::string shard;
-  std::string background = aar::BackgroundName(aar::BackgroundOptions{}.kind);
-  std::string far_boards = FarBoardsText(aar::RenderJobOptions{}.far_boards_m);
-  std::optional<double> sun_azimuth_deg, sun_elevation_deg, latitude_deg, longitude_deg, heading_deg;
-  std::string sun_time;
-  bool daylight = false;
-  std::optional<double> turbidity;
-  bool night = false;
-  std::optional<double> moonlight_lx;
-  std::optional<double> floodlight_lx, floodlight_beam_deg;
-  std::string shading = aar::ToString(aar::RenderJobOptions{}.shading);
-};
-
-// The sun the flags give: an azimuth and elevation, or a time and place;
-// none of them leaves the default sun.
-std::optional<aar::SunOptions> ResolveSun(const JobFlags& f) {
-  const bool direct = f.sun_azimuth_deg || f.sun_elevation_deg;
-  const bool dated = !f.sun_time.empty() || f.latitude_deg || f.longitude_deg || f.heading_deg;
-  if (!direct && !dated) return std::nullopt;
-  if (direct && dated) {
-    throw aar::Error("--sun-azimuth/--sun-elevation or --sun-time/--latitude/--longitude/--heading: give one way");
-  }
-  aar::SunOptions sun;
-  if (direct) {
-    if (!f.sun_azimuth_deg || !f.sun_elevation_deg) throw aar::Error("--sun-azimuth and --sun-elevation: give both");
-    sun.azimuth_deg = *f.sun_azimuth_deg;
-    sun.elevation_deg = *f.sun_elevation_deg;
-    sun.source = "--sun-azimuth " + aar::FormatFixed(sun.azimuth_deg, 3) + " --sun-elevation " +
-                 aar::FormatFixed(sun.elevation_deg, 3);
-    return sun;
-  }
-  if (f.sun_time.empty() || !f.latitude_deg || !f.longitude_deg || !f.heading_deg) {
-    throw aar::Error("--sun-time, --latitude, --longitude and --heading: give all four");
-  }
-  if (!(std::abs(*f.latitude_deg) <= 90.0)) throw aar::Error("--latitude: expected -90 to 90 deg");
-  if (!(std::abs(*f.longitude_deg) <= 180.0)) throw aar::Error("--longitude: expected -180 to 180 deg");
-  if (!(*f.heading_deg >= 0.0 && *f.heading_deg < 360.0)) throw aar::Error("--heading: expected 0 to 360 deg");
-  const aar::SolarPosition p =
-      aar::SunPosition(aar::ParseUtcTime(f.sun_time, "--sun-time"), *f.latitude_deg, *f.longitude_deg);
-  if (p.elevation_deg < 0.0) {
-    throw aar::Error("--sun-time " + f.sun_time + ": the sun is " + aar::FormatFixed(-p.elevation_deg, 1) +
-                     " deg below the horizon there (night has no sun yet)");
-  }
-  sun.azimuth_deg = p.azimuth_deg - *f.heading_deg;
-  sun.elevation_deg = p.elevation_deg;
-  sun.source = "NOAA solar position at " + f.sun_time + ", latitude " + aar::FormatFixed(*f.latitude_deg, 6) +
-               ", longitude " + aar::FormatFixed(*f.longitude_deg, 6) + ", heading " +
-               aar::FormatFixed(*f.heading_deg, 3) + " deg true: azimuth " + aar::FormatFixed(p.azimuth_deg, 3) +
-               " deg true";
-  return sun;
-}
-
-// --daylight and its --turbidity (--night's sky is daylight's, scaled).
-std::optional<aar::DaylightOptions> ResolveDaylight(const JobFlags& f) {
-  if (f.daylight && f.night) throw aar::Error("--daylight and --night: give one of them");
-  if (!f.daylight && !f.night) {
-    if (f.turbidity) throw aar::Error("--turbidity: only with --daylight or --night");
-    return std::nullopt;
-  }
-  aar::DaylightOptions daylight;
-  if (f.turbidity) daylight.turbidity = *f.turbidity;
-  return daylight;
-}
-
-// --night and its --moonlight; the moon takes the sun's direction, which a
-// date and time cannot give (they give the sun's).
-std::optional<aar::NightOptions> ResolveNight(const JobFlags& f) {
-  if (!f.night) {
-    if (f.moonlight_lx) throw aar::Error("--moonlight: only with --night");
-    return std::nullopt;
-  }
-  if (!f.sun_time.empty()) {
-    throw aar::Error(
-        "--night and --sun-time: the time gives the sun's place; give the moon's with --sun-azimuth "
-        "and --sun-elevation");
-  }
-  aar::NightOptions night;
-  if (f.moonlight_lx) night.moonlight_lx = *f.moonlight_lx;
-  return night;
-}
-
-// --floodlight and its --floodlight-beam.
-std::optional<aar::FloodlightOptions> ResolveFloodlight(const JobFlags& f) {
-  if (!f.floodlight_lx) {
-    if (f.floodlight_beam_deg) throw aar::Error("--floodlight-beam: only with --floodlight");
-    return std::nullopt;
-  }
-  aar::FloodlightOptions flood;
-  flood.illuminance_lx = *f.floodlight_lx;
-  if (f.floodlight_beam_deg) flood.beam_sigma_deg = *f.floodlight_beam_deg;
-  return flood;
-}
-
-// The background flags of `render` (and `bench`); the defaults are BackgroundOptions'.
-void AddBackgroundFlags(CLI::App& cmd, JobFlags& f, bool kind) {
-  aar::BackgroundOptions& b = f.job.background;
-  if (kind) {
-    cmd.add_option("--background", f.background,
-                   "behind the receiver: flat (uniform sky, the thesis's), sky (horizon, sky gradient, plain hazy "
-                   "ground), terrain (procedural fields, roads, water), clouds (an overcast deck)")
-        ->capture_default_str();
-  }
-  cmd.add_option("--altitude", b.altitude_m, "tanker altitude above the ground [m] (sky, terrain, clouds)")
-      ->capture_default_str();
-  cmd.add_option("--cloud-top", b.cloud_top_m, "cloud deck top above the ground [m] (clouds)")->capture_default_str();
-  cmd.add_option("--tanker-roll", b.tanker_roll_deg, "tanker roll [deg], frames.md conventions (moves the horizon)")
-      ->capture_default_str();
-  cmd.add_option("--tanker-pitch", b.tanker_pitch_deg, "tanker pitch [deg], positive nose down (moves the horizon)")
-      ->capture_default_str();
-  cmd.add_option("--visibility", b.visibility_m, "sea-level visibility of the haze [m] (2 % contrast)")
-      ->capture_default_str();
-  cmd.add_option("--background-seed", b.seed, "seed of the terrain and cloud textures")->capture_default_str();
-  cmd.add_option("--sun-azimuth", f.sun_azimuth_deg,
-                 "the sun's azimuth, clockwise from the tanker's heading seen from above [deg] (with "
-                 "--sun-elevation; default: 52 deg left of the heading, 55 deg up)");
-  cmd.add_option("--sun-elevation", f.sun_elevation_deg, "the sun's elevation above the horizon, 0 to 90 [deg]");
-  cmd.add_option("--sun-time", f.sun_time,
-                 "the sun where it is at this UTC time, YYYY-MM-DDTHH:MM[:SS]Z (NOAA's solar position; with "
-                 "--latitude, --longitude, --heading)");
-  cmd.add_option("--latitude", f.latitude_deg, "with --sun-time: the tanker's latitude, north positive [deg]");
-  cmd.add_option("--longitude", f.longitude_deg, "with --sun-time: the tanker's longitude, east positive [deg]");
-  cmd.add_option("--heading", f.heading_deg, "with --sun-time: the tanker's true heading, 0 to 360 [deg]");
-  cmd.add_flag("--daylight", f.daylight,
-               "the sun's colour and brightness after the atmosphere, Preetham's sky for the sun, the aircraft lit "
-               "by that sky and by the ground or clouds below, the sun's disc in view (sky, terrain, clouds)");
-  cmd.add_option("--turbidity", f.turbidity,
-                 "with --daylight or --night: the atmosphere's turbidity, 2 (very clear) to 10 (hazy) [default: 3]");
-  cmd.add_flag("--night", f.night,
-               "night: the moon at --sun-azimuth/--sun-elevation (default: the default sun's place), its light and "
-               "the sky it scatters (the daylight model scaled to the moon); set --exposure-ev, a camera's exposure "
-               "at night (sky, terrain, clouds)");
-  cmd.add_option("--moonlight", f.moonlight_lx,
-                 "with --night: the moon's illuminance outside the atmosphere, 0 (no moon) to 1 lx [default: 0.25, "
-                 "a full moon]");
-}
-
-void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
-  cmd.add_option("--rig", f.job.rig, "camera rig JSON")->capture_default_str();
-  if (calib) {
-    cmd.add_option("--board", f.job.board_model, "calibration board glTF")->capture_default_str();
-    cmd.add_option("--far-boards", f.far_boards,
-                   "also render the twelve board tilts at these distances along the optical axis [m] (36 pairs by "
-                   "default; one distance alone leaves focal length and baseline confounded); none: the thesis's "
-                   "twelve near boards only")
-        ->capture_default_str();
-    cmd.add_flag("--corner-boards", f.job.corner_boards,
-                 "also render 8 boards pushed towards the image corners and edges (covers the periphery, where lens "
-                 "distortion is largest)");
-  } else {
-    cmd.add_option("--flight-path", f.job.flight_path,
-                   "flight-path CSV (time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg, optionally "
-                   "boom_pitch_deg,boom_roll_deg,boom_extension_m: then the boom is in the scene)")
-        ->capture_default_str();
-    cmd.add_option("--receiver", f.job.receiver_model, "receiver glTF")->capture_default_str();
-    cmd.add_option("--tanker", f.job.tanker_model, "tanker glTF")->capture_default_str();
-    cmd.add_flag("--boom", f.job.boom,
-                 "put the boom in the scene for a flight path without boom columns (stowed: out of view)");
-    cmd.add_option("--boom-model", f.job.boom_model, "boom glTF, fixed part")->capture_default_str();
-    cmd.add_option("--boom-tube-model", f.job.boom_tube_model, "boom glTF, telescoping tube")->capture_default_str();
-    cmd.add_option("--propellers", f.job.propeller_rpm,
-                   "engine speed [rpm] of the receiver's two four-blade propellers (0: none, as in the thesis; "
-                   "e.g. 1700); blurred with --shutter-ms")
-        ->capture_default_str();
-    cmd.add_option("--propeller-model", f.job.propeller_model, "propeller glTF")->capture_default_str();
-    cmd.add_flag("--receiver-lights", f.job.receiver_lights,
-                 "the receiver's position lights (red left, green right, white tail), red anti-collision beacons "
-                 "and white strobes, flashing once a second (14 CFR 23.1391-23.1401 intensities)");
-    cmd.add_option("--shutter-ms", f.job.shutter_ms,
-                   "exposure time [ms] centred on each sample: the receiver and its propellers move during it "
-                   "(motion blur); 0: an instant")
-        ->capture_default_str();
-    cmd.add_option("--time-samples", f.job.time_samples,
-                   "instants the exposure is rendered at, a power of two (with --shutter-ms; cost: max(this, MSAA "
-                   "passes) passes per view)")
-        ->capture_default_str();
-    cmd.add_option("--readout-bands", f.job.readout_bands,
-                   "bands of rows a rolling shutter's frame is rendered in, each at its own instant (a rig whose "
-                   "sensor.readout_ms > 0; a row's instant is off by at most readout / (2 bands)), 1 to 1024")
-        ->capture_default_str();
-    cmd.add_option("--shading", f.shading,
-                   "how the aircraft are lit: matte (Lambertian, the default) or pbr (the models' glTF "
-                   "metallic-roughness materials, with the sun's and the sky's specular reflection)")
-        ->capture_default_str();
-    cmd.add_flag("--shadows", f.job.shadows,
-                 "the sun's shadows on the receiver: what the tanker, the boom, the receiver and its propellers "
-                 "cast on it (a shadow map per instant; docs/rendering.md, \"Shadows\")");
-    cmd.add_option("--exposure-ev", f.job.exposure_ev,
-                   "the camera's exposure over the rig's [EV, powers of two], -10 to 24: more light on the sensor "
-                   "(a longer shutter, a wider aperture); at night about 10 to 14 with --floodlight")
-        ->capture_default_str();
-    cmd.add_option("--floodlight", f.floodlight_lx,
-                   "the tanker's floodlight between the cameras, aimed at the path's nearest receiver position, "
-                   "giving this illuminance there [lx], 0.1 to 10000 (e.g. 50 at night)");
-    cmd.add_option("--floodlight-beam", f.floodlight_beam_deg,
-                   "with --floodlight: the beam's spread, one standard deviation, 1 to 60 [deg] [default: 10]");
-    cmd.add_flag("--depth", f.job.depth,
-                 "also write left-camera ground-truth depth (EXR, metres), object ids and receiver silhouette");
-    cmd.add_flag("--depth-right", f.job.depth_right, "also write the same for the right camera (implies --depth)");
-    AddBackgroundFlags(cmd, f, true);
-  }
-  cmd.add_option("--msaa", f.job.msaa, "samples per pixel: 1, 4, 8, 16 or 32 (composed when not native)")
-      ->capture_default_str();
-  cmd.add_option("--anisotropy", f.job.anisotropy, "texture anisotropic filtering, 1 (trilinear) to 16")
-      ->capture_default_str();
-  cmd.add_option("--frames", f.frames, "half-open range a:b of frame indices (e.g. 0:100, 250:)");
-  cmd.add_option("--shard", f.shard,
-                 "render frames i with i % N == K (K/N); defaults to SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT");
-  cmd.add_option("--device", f.job.device, "Vulkan device name substring (default: lavapipe, else the first)");
-  cmd.add_flag(
-      "--no-progress", [&f](int64_t) { f.job.progress = false; }, "no progress line on stderr");
-}
-
 void Report(const aar::RenderJobResult& r, const std::filesystem::path& out) {
   const double pairs = static_cast<double>(r.rendered);
   std::fprintf(stderr, "%s: %zu pairs rendered, %zu already complete, device %s, MSAA %s\n", out.c_str(), r.rendered,
@@ -323,20 +83,20 @@ int RunJob(int argc, char** argv, bool calib) {
   const Command& command = CommandNamed(calib ? "calib" : "render");
   CLI::App app{command.description};
   ConfigureApp(app);
-  JobFlags flags;
+  aar::JobFlags flags;
   app.add_option("output", flags.job.output,
                  calib ? "dataset folder (created if needed)" : "dataset folder (created; re-running resumes)")
       ->required();
-  AddJobFlags(app, flags, calib);
+  aar::AddJobFlags(app, flags, calib);
   CLI11_PARSE(app, argc, argv);
   flags.job.selection = aar::ParseFrameSelection(flags.frames, flags.shard);
   flags.job.background.kind = aar::ParseBackgroundKind(flags.background);
-  if (!calib) flags.job.background.sun = ResolveSun(flags);
-  if (!calib) flags.job.background.daylight = ResolveDaylight(flags);
-  if (!calib) flags.job.background.night = ResolveNight(flags);
-  if (!calib) flags.job.floodlight = ResolveFloodlight(flags);
-  if (!calib) flags.job.shading = aar::ParseShading(flags.shading);
-  if (calib) flags.job.far_boards_m = ParseFarBoards(flags.far_boards);
+  if (calib) {
+    flags.job.far_boards_m = aar::ParseFarBoards(flags.far_boards);
+  } else {
+    aar::ResolveLightingFlags(flags);
+    flags.job.shading = aar::ParseShading(flags.shading);
+  }
   const aar::RenderJobResult result =
       calib ? aar::RenderCalibrationJob(flags.job) : aar::RenderFlightPathJob(flags.job);
   Report(result, flags.job.output);
@@ -378,13 +138,13 @@ int RunDevices(int argc, char** argv) {
 int RunBench(int argc, char** argv) {
   CLI::App app{CommandNamed("bench").description};
   ConfigureApp(app);
-  JobFlags flags;
+  aar::JobFlags flags;
   std::vector<int> levels = {1, 4, 16};
   size_t pairs = 8;
   app.add_option("--levels", levels, "MSAA levels to time")->delimiter(',')->capture_default_str();
   app.add_option("--pairs", pairs, "pairs per level (the last ones of the flight path: receiver largest)")
       ->capture_default_str();
-  AddJobFlags(app, flags, false);
+  aar::AddJobFlags(app, flags, false);
   // Backgrounds to compare, each level timed with each in turn (noise drifts slowly).
   app.remove_option(app.get_option("--background"));
   std::vector<std::string> backgrounds = {"flat"};
@@ -412,10 +172,7 @@ int RunBench(int argc, char** argv) {
     shadings.push_back({name, aar::ParseShading(shadows ? name.substr(0, name.size() - suffix.size()) : name),
                         shadows || flags.job.shadows});
   }
-  flags.job.background.sun = ResolveSun(flags);
-  flags.job.background.daylight = ResolveDaylight(flags);
-  flags.job.background.night = ResolveNight(flags);
-  flags.job.floodlight = ResolveFloodlight(flags);
+  aar::ResolveLightingFlags(flags);
   if (app.count("--msaa") > 0) {  // one level: the same as --levels with it alone
     if (app.count("--levels") > 0) throw aar::Error("--msaa and --levels: give one of them");
     levels = {flags.job.msaa};

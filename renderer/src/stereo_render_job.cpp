@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <optional>
 #include <tuple>
@@ -197,7 +198,10 @@ nlohmann::json FlightPathFramesJson(const RenderJobOptions& options, const Rende
     frames["floodlight"]["illuminance_lx_at_aim"] = options.floodlight->illuminance_lx;
   }
   // Absent by day at the rig's exposure, likewise.
-  if (session.exposure) {
+  if (session.auto_exposure) {
+    frames["auto_exposure"] = AutoExposureJson(*options.auto_exposure, options.exposure_ev,
+                                               RenderScale(options.background), *session.auto_exposure);
+  } else if (session.exposure) {
     frames["camera_exposure"] = {
         {"exposure_ev", options.exposure_ev},
         {"render_scale", RenderScale(options.background)},
@@ -259,17 +263,16 @@ struct FlightPathFrames {
   const std::string& settings;
 };
 
-// Frame i of the flight path: each readout band's scene over its exposure and at its instant, its sidecar.
-std::tuple<std::vector<BandScene>, FrameSidecar> FlightPathPair(const FlightPathFrames& frames, size_t i) {
+// Frame i of the flight path: each readout band's scene over its exposure and at its instant.
+std::vector<BandScene> FlightPathBands(const FlightPathFrames& frames, size_t i) {
   const std::vector<FlightSample>& path = frames.path;
   const Eigen::Isometry3d tanker_from_receiver = IsometryFromPose(path[i].tanker_from_receiver);
   // The scene at instant k of the exposure: tanker, receiver (instant k), boom.
-  FrameSidecar s;
   std::vector<RenderItem> boom_items;
   if (frames.with_boom) {
-    s.boom = path[i].boom.value_or(BoomPose{});
-    boom_items = {{frames.models.boom, TankerFromBoom(*s.boom), kBoomId},
-                  {frames.models.boom_tube, TankerFromBoomTube(*s.boom), kBoomId}};
+    const BoomPose boom = path[i].boom.value_or(BoomPose{});
+    boom_items = {{frames.models.boom, TankerFromBoom(boom), kBoomId},
+                  {frames.models.boom_tube, TankerFromBoomTube(boom), kBoomId}};
   }
   const auto scene_with = [&](const std::vector<RenderItem>& receiver_items) {
     std::vector<RenderItem> items = {{frames.models.tanker, Eigen::Isometry3d::Identity(), kTankerId}};
@@ -291,6 +294,16 @@ std::tuple<std::vector<BandScene>, FrameSidecar> FlightPathPair(const FlightPath
             : ReceiverOverExposure(frames.models.receiver, path, i, {band_offset}, frames.options.propeller_rpm)[0]);
     bands.push_back(std::move(band));
   }
+  return bands;
+}
+
+// Frame i's bands and its sidecar.
+std::tuple<std::vector<BandScene>, FrameSidecar> FlightPathPair(const FlightPathFrames& frames, size_t i) {
+  const std::vector<FlightSample>& path = frames.path;
+  const Eigen::Isometry3d tanker_from_receiver = IsometryFromPose(path[i].tanker_from_receiver);
+  FrameSidecar s;
+  if (frames.with_boom) s.boom = path[i].boom.value_or(BoomPose{});
+  std::vector<BandScene> bands = FlightPathBands(frames, i);
   const StereoRig& rig = frames.rig;
   s.kind = "frame";
   s.settings_sha256 = frames.settings;
@@ -303,6 +316,52 @@ std::tuple<std::vector<BandScene>, FrameSidecar> FlightPathPair(const FlightPath
   s.in_view_right = InViewFraction(frames.receiver_points, rig.right, tanker_from_receiver);
   s.rig = rig;
   return std::make_tuple(std::move(bands), s);
+}
+
+// Auto-exposure: every frame of the path metered in order by the left
+// camera at its instant, small and pinhole, with one sample per pixel, so
+// that the schedule is the path's whatever the selection (shards and resumed
+// runs agree); the session's exposure then follows it frame by frame.
+void MeterAutoExposure(const RenderJobOptions& options, const FlightPathModels& models, const SessionLighting& lighting,
+                       const std::vector<FlightSample>& path, RenderSession& session) {
+  const AutoExposureOptions& ae = *options.auto_exposure;
+  StereoRig small = session.rig;
+  small.sensor.reset();
+  for (Camera* camera : {&small.left, &small.right}) {
+    Intrinsics& k = camera->intrinsics;
+    const int width = (k.width_px + ae.meter_downscale - 1) / ae.meter_downscale;
+    const int height = (k.height_px + ae.meter_downscale - 1) / ae.meter_downscale;
+    const double sx = static_cast<double>(width) / k.width_px, sy = static_cast<double>(height) / k.height_px;
+    k = Intrinsics{
+        width,         height, k.fx_px * sx, k.fy_px * sy, (k.cx_px + 0.5) * sx - 0.5, (k.cy_px + 0.5) * sy - 0.5,
+        BrownConrady{}};
+  }
+  RenderJobOptions meter_options = options;
+  meter_options.msaa = 1;
+  SessionLighting meter_lighting = lighting;
+  meter_lighting.exposure_ev = 0.0;
+  RenderSession meter = OpenRenderSession(meter_options, small, options.background, meter_lighting);
+  const FlightPathModelIndices indices = AddFlightPathModels(meter, models, options.background);
+  const std::vector<double> instant = {0.0};
+  const std::vector<Eigen::Vector3d> no_points;
+  const std::string no_settings;
+  const FlightPathFrames frames{meter_options, small,   path,      indices,    models.with_boom,
+                                instant,       instant, no_points, no_settings};
+  std::vector<double> times_s;
+  for (const FlightSample& sample : path) times_s.push_back(sample.time_s);
+  const double full_scale =
+      session.rig.sensor ? std::min(1.0, session.rig.sensor->full_well_e / session.rig.sensor->exposure_e) : 1.0;
+  std::optional<Progress> progress;
+  if (options.progress) progress.emplace("auto-exposure: meter", path.size());
+  const double render_scale = RenderScale(options.background);
+  session.auto_exposure = RunAutoExposure(times_s, options.exposure_ev, render_scale, full_scale, ae, [&](size_t i) {
+    const LinearImage image = meter.renderer->RenderColor(meter.RenderCamera("left"), small.near_m,
+                                                          FlightPathBands(frames, i).front().instant, meter.plan);
+    if (progress) progress->Advance();
+    return image;
+  });
+  if (progress) progress->Finish();
+  session.exposure.emplace(session.auto_exposure->ev, render_scale);
 }
 
 }  // namespace
@@ -329,6 +388,7 @@ void RenderJobOptions::Check() const {
   if (time_samples < 2 || time_samples > 64 || (time_samples & (time_samples - 1)) != 0) {
     throw Error("--time-samples " + std::to_string(time_samples) + ": expected a power of two from 2 to 64");
   }
+  if (auto_exposure) auto_exposure->Check();
   if (readout_bands < 1 || readout_bands > kMaxReadoutBands) {
     throw Error("--readout-bands " + std::to_string(readout_bands) + ": expected 1 to " +
                 std::to_string(kMaxReadoutBands));
@@ -353,6 +413,7 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   }
   RenderSession session = OpenRenderSession(options, rig, options.background, lighting);
   const FlightPathModelIndices indices = AddFlightPathModels(session, models, options.background);
+  if (options.auto_exposure) MeterAutoExposure(options, models, lighting, path, session);
   const std::vector<double> exposure_offsets = ExposureOffsets(options.shutter_ms, options.time_samples);
   const std::vector<double> band_offsets =
       readout_ms > 0.0 ? ReadoutBandOffsets(readout_ms, options.readout_bands) : std::vector<double>{0.0};

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "aar/dataset.h"
+#include "aar/renderer/auto_exposure.h"
 #include "aar/renderer/background.h"
 #include "aar/renderer/camera_exposure.h"
 #include "aar/renderer/lens_distortion.h"
@@ -45,6 +46,8 @@ struct RenderSession {
   // The camera's exposure and the night's render scale divided out; empty
   // where their factor is 1 (by day at the rig's exposure).
   std::optional<CameraExposure> exposure;
+  // With auto-exposure: every frame's exposure and metered level (the exposure's factors per frame).
+  std::optional<AutoExposureSchedule> auto_exposure;
   std::optional<Floodlight> floodlight;  // the tanker's floodlight, where it shines
   // The rig's sensor, its fixed patterns drawn once for the whole run; null without one.
   std::shared_ptr<const SensorModel> sensor;

@@ -12,6 +12,7 @@
 
 #include "aar/data_path.h"
 #include "aar/frame_selection.h"
+#include "aar/renderer/auto_exposure.h"
 #include "aar/renderer/background.h"
 #include "aar/renderer/floodlight.h"
 #include "aar/renderer/shading.h"
@@ -63,6 +64,9 @@ struct RenderJobOptions {
   /// at night, what a camera gains from a longer shutter and a wider
   /// aperture (the calibration boards are shot by day, at 0).
   double exposure_ev = 0.0;
+  /// Auto-exposure (auto_exposure.h; render job): the camera meters each
+  /// frame and sets the next one's exposure, from exposure_ev at frame 0.
+  std::optional<AutoExposureOptions> auto_exposure;
   /// The tanker's floodlight on the receiver (floodlight.h; render job).
   std::optional<FloodlightOptions> floodlight;
   std::filesystem::path flight_path = DataFile("flightpaths/conops.csv");  ///< flight path (render job)
