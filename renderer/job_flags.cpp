@@ -169,6 +169,73 @@ void AddBackgroundFlags(CLI::App& cmd, JobFlags& f, bool kind) {
                  "a full moon]");
 }
 
+// A flight-path job's path, models and what moves during the exposure.
+void AddSceneFlags(CLI::App& cmd, JobFlags& f) {
+  cmd.add_option("--flight-path", f.job.flight_path,
+                 "flight-path CSV (time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg, optionally "
+                 "boom_pitch_deg,boom_roll_deg,boom_extension_m: then the boom is in the scene)")
+      ->capture_default_str();
+  cmd.add_option("--receiver", f.job.receiver_model, "receiver glTF")->capture_default_str();
+  cmd.add_option("--tanker", f.job.tanker_model, "tanker glTF")->capture_default_str();
+  cmd.add_flag("--boom", f.job.boom,
+               "put the boom in the scene for a flight path without boom columns (stowed: out of view)");
+  cmd.add_option("--boom-model", f.job.boom_model, "boom glTF, fixed part")->capture_default_str();
+  cmd.add_option("--boom-tube-model", f.job.boom_tube_model, "boom glTF, telescoping tube")->capture_default_str();
+  cmd.add_option("--propellers", f.job.propeller_rpm,
+                 "engine speed [rpm] of the receiver's two four-blade propellers (0: none, as in the thesis; "
+                 "e.g. 1700); blurred with --shutter-ms")
+      ->capture_default_str();
+  cmd.add_option("--propeller-model", f.job.propeller_model, "propeller glTF")->capture_default_str();
+  cmd.add_flag("--receiver-lights", f.job.receiver_lights,
+               "the receiver's position lights (red left, green right, white tail), red anti-collision beacons "
+               "and white strobes, flashing once a second (14 CFR 23.1391-23.1401 intensities)");
+  cmd.add_option("--shutter-ms", f.job.shutter_ms,
+                 "exposure time [ms] centred on each sample: the receiver and its propellers move during it "
+                 "(motion blur); 0: an instant")
+      ->capture_default_str();
+  cmd.add_option("--time-samples", f.job.time_samples,
+                 "instants the exposure is rendered at, a power of two (with --shutter-ms; cost: max(this, MSAA "
+                 "passes) passes per view)")
+      ->capture_default_str();
+  cmd.add_option("--readout-bands", f.job.readout_bands,
+                 "bands of rows a rolling shutter's frame is rendered in, each at its own instant (a rig whose "
+                 "sensor.readout_ms > 0; a row's instant is off by at most readout / (2 bands)), 1 to 1024")
+      ->capture_default_str();
+}
+
+// A flight-path job's light: shading, shadows, the camera's exposure, the floodlight.
+void AddLightFlags(CLI::App& cmd, JobFlags& f) {
+  cmd.add_option("--shading", f.shading,
+                 "how the aircraft are lit: matte (Lambertian, the default) or pbr (the models' glTF "
+                 "metallic-roughness materials, with the sun's and the sky's specular reflection)")
+      ->capture_default_str();
+  cmd.add_flag("--shadows", f.job.shadows,
+               "the sun's shadows on the receiver: what the tanker, the boom, the receiver and its propellers "
+               "cast on it (a shadow map per instant; docs/rendering.md, \"Shadows\")");
+  cmd.add_option("--exposure-ev", f.job.exposure_ev,
+                 "the camera's exposure over the rig's [EV, powers of two], -10 to 24: more light on the sensor "
+                 "(a longer shutter, a wider aperture); at night about 10 to 14 with --floodlight")
+      ->capture_default_str();
+  cmd.add_flag("--auto-exposure", f.auto_exposure,
+               "the camera meters each frame and sets the next one's exposure towards --ae-target through a lag "
+               "(--ae-time-constant), from --exposure-ev at frame 0 (both cameras alike; docs/rendering.md, "
+               "\"Exposure and night\")");
+  cmd.add_option("--ae-target", f.ae_target,
+                 "with --auto-exposure: the mean luminance aimed at, of the image's full scale [default: 0.18, "
+                 "middle grey]");
+  cmd.add_option("--ae-time-constant", f.ae_time_constant_s,
+                 "with --auto-exposure: the lag's time constant [s], 0 (the next frame meets the target) to 60 "
+                 "[default: 0.1]");
+  cmd.add_option("--ae-max-ev", f.ae_max_ev,
+                 "with --auto-exposure: the camera's most exposure over the rig's [EV] (longest shutter, widest "
+                 "aperture, highest gain), -10 to 24 [default: 24]");
+  cmd.add_option("--floodlight", f.floodlight_lx,
+                 "the tanker's floodlight between the cameras, aimed at the path's nearest receiver position, "
+                 "giving this illuminance there [lx], 0.1 to 10000 (e.g. 50 at night)");
+  cmd.add_option("--floodlight-beam", f.floodlight_beam_deg,
+                 "with --floodlight: the beam's spread, one standard deviation, 1 to 60 [deg] [default: 10]");
+}
+
 }  // namespace
 
 void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
@@ -184,65 +251,8 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
                  "also render 8 boards pushed towards the image corners and edges (covers the periphery, where lens "
                  "distortion is largest)");
   } else {
-    cmd.add_option("--flight-path", f.job.flight_path,
-                   "flight-path CSV (time_s,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg, optionally "
-                   "boom_pitch_deg,boom_roll_deg,boom_extension_m: then the boom is in the scene)")
-        ->capture_default_str();
-    cmd.add_option("--receiver", f.job.receiver_model, "receiver glTF")->capture_default_str();
-    cmd.add_option("--tanker", f.job.tanker_model, "tanker glTF")->capture_default_str();
-    cmd.add_flag("--boom", f.job.boom,
-                 "put the boom in the scene for a flight path without boom columns (stowed: out of view)");
-    cmd.add_option("--boom-model", f.job.boom_model, "boom glTF, fixed part")->capture_default_str();
-    cmd.add_option("--boom-tube-model", f.job.boom_tube_model, "boom glTF, telescoping tube")->capture_default_str();
-    cmd.add_option("--propellers", f.job.propeller_rpm,
-                   "engine speed [rpm] of the receiver's two four-blade propellers (0: none, as in the thesis; "
-                   "e.g. 1700); blurred with --shutter-ms")
-        ->capture_default_str();
-    cmd.add_option("--propeller-model", f.job.propeller_model, "propeller glTF")->capture_default_str();
-    cmd.add_flag("--receiver-lights", f.job.receiver_lights,
-                 "the receiver's position lights (red left, green right, white tail), red anti-collision beacons "
-                 "and white strobes, flashing once a second (14 CFR 23.1391-23.1401 intensities)");
-    cmd.add_option("--shutter-ms", f.job.shutter_ms,
-                   "exposure time [ms] centred on each sample: the receiver and its propellers move during it "
-                   "(motion blur); 0: an instant")
-        ->capture_default_str();
-    cmd.add_option("--time-samples", f.job.time_samples,
-                   "instants the exposure is rendered at, a power of two (with --shutter-ms; cost: max(this, MSAA "
-                   "passes) passes per view)")
-        ->capture_default_str();
-    cmd.add_option("--readout-bands", f.job.readout_bands,
-                   "bands of rows a rolling shutter's frame is rendered in, each at its own instant (a rig whose "
-                   "sensor.readout_ms > 0; a row's instant is off by at most readout / (2 bands)), 1 to 1024")
-        ->capture_default_str();
-    cmd.add_option("--shading", f.shading,
-                   "how the aircraft are lit: matte (Lambertian, the default) or pbr (the models' glTF "
-                   "metallic-roughness materials, with the sun's and the sky's specular reflection)")
-        ->capture_default_str();
-    cmd.add_flag("--shadows", f.job.shadows,
-                 "the sun's shadows on the receiver: what the tanker, the boom, the receiver and its propellers "
-                 "cast on it (a shadow map per instant; docs/rendering.md, \"Shadows\")");
-    cmd.add_option("--exposure-ev", f.job.exposure_ev,
-                   "the camera's exposure over the rig's [EV, powers of two], -10 to 24: more light on the sensor "
-                   "(a longer shutter, a wider aperture); at night about 10 to 14 with --floodlight")
-        ->capture_default_str();
-    cmd.add_flag("--auto-exposure", f.auto_exposure,
-                 "the camera meters each frame and sets the next one's exposure towards --ae-target through a lag "
-                 "(--ae-time-constant), from --exposure-ev at frame 0 (both cameras alike; docs/rendering.md, "
-                 "\"Exposure and night\")");
-    cmd.add_option("--ae-target", f.ae_target,
-                   "with --auto-exposure: the mean luminance aimed at, of the image's full scale [default: 0.18, "
-                   "middle grey]");
-    cmd.add_option("--ae-time-constant", f.ae_time_constant_s,
-                   "with --auto-exposure: the lag's time constant [s], 0 (the next frame meets the target) to 60 "
-                   "[default: 0.1]");
-    cmd.add_option("--ae-max-ev", f.ae_max_ev,
-                   "with --auto-exposure: the camera's most exposure over the rig's [EV] (longest shutter, widest "
-                   "aperture, highest gain), -10 to 24 [default: 24]");
-    cmd.add_option("--floodlight", f.floodlight_lx,
-                   "the tanker's floodlight between the cameras, aimed at the path's nearest receiver position, "
-                   "giving this illuminance there [lx], 0.1 to 10000 (e.g. 50 at night)");
-    cmd.add_option("--floodlight-beam", f.floodlight_beam_deg,
-                   "with --floodlight: the beam's spread, one standard deviation, 1 to 60 [deg] [default: 10]");
+    AddSceneFlags(cmd, f);
+    AddLightFlags(cmd, f);
     cmd.add_flag("--depth", f.job.depth,
                  "also write left-camera ground-truth depth (EXR, metres), object ids and receiver silhouette");
     cmd.add_flag("--depth-right", f.job.depth_right, "also write the same for the right camera (implies --depth)");

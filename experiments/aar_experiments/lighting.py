@@ -32,7 +32,20 @@ daylight; at night a full moon (0.25 lx) and the receiver's lights
 (`--night --receiver-lights`), the camera's exposure 6 EV above the rig's
 (`--exposure-ev 6`: a 4 ms shutter at f/1.4 against the day's 0.5 ms at
 f/4), with the tanker's floodlight giving 400 lx or 100 lx at the contact
-position, or with the moon alone.
+position, or with the moon alone; and with the floodlight at 100 lx the
+camera's auto-exposure (`--auto-exposure --ae-max-ev 9`, from EV 6: it
+meters the whole, mostly dark image and so runs to its limit, 9 EV above
+the rig's, a 33 ms shutter at f/1.4 against the day's 0.5 ms at f/4).
+
+Then the sun in view through the sensor (`scenes/rig-noisy.json` over the
+terrain with daylight, pbr and shadows, the tanker pitched 10 deg nose
+down, the sun 2 deg up aft), its lens's stray light added one effect at a
+time in rigs the experiment writes (OUT/rig-stray-*.json): the sun's veil
+(`glare_fraction` 0.02, the glare tests' value), then three flare ghosts
+(at -0.4, -0.9 and -1.5 of the way from the centre to the sun, 12, 30 and
+60 px, fractions 5e-5, 2e-5 and 1e-5: two reflections of about 0.5 % off
+single-coated surfaces), then a CCD's blooming and smear (`blooming` 1, no
+anti-blooming drain; `smear` 0.001).
 """
 
 import json
@@ -41,7 +54,7 @@ from .outputs import read_frames
 from .realism import region_results
 from .registry import register
 from .report import Report, conclude, fmt
-from .runner import analyze, render_frames, selection_text
+from .runner import ROOT, analyze, rel, render_frames, selection_text
 from .thesis import COMPONENT_HEADERS
 
 CONOPS = "flightpaths/conops.csv"
@@ -83,8 +96,42 @@ NIGHT_CASES = {
     "full": (("night-day", "by day (daylight)", NOISY + TERRAIN + ("--daylight",)),
              ("night-flood-400", "night, floodlight 400 lx", NIGHT + ("--floodlight", "400")),
              ("night-flood-100", "night, floodlight 100 lx", NIGHT + ("--floodlight", "100")),
+             ("night-flood-100-ae", "night, floodlight 100 lx, auto-exposure (at most 9 EV)",
+              NIGHT + ("--floodlight", "100", "--auto-exposure", "--ae-max-ev", "9")),
              ("night-moon", "night, full moon alone", NIGHT)),
 }
+SUN_IN_VIEW = ("--tanker-pitch", "10", "--sun-azimuth", "180", "--sun-elevation", "2")
+# The lens's stray light and the sensor's charge spill, added one at a time to scenes/rig-noisy.json's sensor.
+GHOSTS = [{"position": -0.4, "radius_px": 12.0, "fraction": 5e-5},
+          {"position": -0.9, "radius_px": 30.0, "fraction": 2e-5},
+          {"position": -1.5, "radius_px": 60.0, "fraction": 1e-5}]
+STRAY_SENSORS = {
+    "glare": {"glare_fraction": 0.02},
+    "flare": {"glare_fraction": 0.02, "flare_ghosts": GHOSTS},
+    "bloom": {"glare_fraction": 0.02, "flare_ghosts": GHOSTS, "blooming": 1.0, "smear": 0.001},
+}
+# The sun in view through the sensor: (key, label, rig part or None for scenes/rig-noisy.json); the first the baseline.
+STRAY_CASES = {
+    "quick": (("stray-none", "rig-noisy, sun in view", None),
+              ("stray-bloom", "+ glare, ghosts, blooming and smear", "bloom")),
+    "full": (("stray-none", "rig-noisy, sun in view", None),
+             ("stray-glare", "+ veiling glare", "glare"),
+             ("stray-flare", "+ glare and flare ghosts", "flare"),
+             ("stray-bloom", "+ glare, ghosts, blooming and smear", "bloom")),
+}
+
+
+def stray_rig(ctx, part):
+    """OUT/rig-stray-<part>.json: scenes/rig-noisy.json with STRAY_SENSORS[part] in its sensor block."""
+    if part is None:
+        return NOISY[1]
+    rig = json.loads((ROOT / NOISY[1]).read_text())
+    rig["sensor"].update(STRAY_SENSORS[part])
+    rig["description"] = (f"{NOISY[1]} with {', '.join(sorted(STRAY_SENSORS[part]))} in its sensor block, written by "
+                          "experiments/aar_experiment.py lighting")
+    path = ctx.out / f"rig-stray-{part}.json"
+    path.write_text(json.dumps(rig, indent=2) + "\n")
+    return path
 
 
 def _flat_render_flags(sun, shading):
@@ -101,7 +148,8 @@ def _cases(mode):
     cases = [("flat", _key(sun, shading), _label(sun, shading), _flat_render_flags(sun, shading))
              for sun, shading in flat]
     return (cases + [("terrain", key, label, flags) for key, label, flags in TERRAIN_CASES[mode]] +
-            [("night", key, label, flags) for key, label, flags in NIGHT_CASES[mode]])
+            [("night", key, label, flags) for key, label, flags in NIGHT_CASES[mode]] +
+            [("stray", key, label, part) for key, label, part in STRAY_CASES[mode]])
 
 
 def _label(sun, shading):
@@ -119,14 +167,17 @@ GROUPS = (("flat", "default", "over the flat sky, the fixed light",
           ("terrain", "terrain", "over terrain, daylight and shadows",
            "in parentheses the ratio to the fixed light over the same terrain"),
           ("night", "night-day", "at night, through the sensor model",
-           "in parentheses the ratio to the same sensor by day"))
+           "in parentheses the ratio to the same sensor by day"),
+          ("stray", "stray-none", "the sun in view through the lens and sensor",
+           "in parentheses the ratio to the same rig without stray light"))
 
 
 @register("lighting", order=8,
           help="beyond the thesis: the pose error against the sun's azimuth and elevation (regions B and C, "
                "every 10th frame at x16, matte and pbr shading), and over terrain with daylight, shadows and the "
                "sun in view, and at night with the moon, the receiver's lights and the tanker's floodlight through "
-               "the sensor model; --quick: two frames at x4, two suns, two terrain and two night cases)")
+               "the sensor model, and the sun in view with the lens's glare and ghosts and a CCD's blooming; --quick: two frames "
+               "at x4, two suns, two terrain, two night and two stray-light cases)")
 def run(ctx):
     mode = "quick" if ctx.quick else "full"
     msaa, sel = MSAA[mode], SELECTION[mode]
@@ -136,6 +187,8 @@ def run(ctx):
           "`calibration_ideal.yaml`; mean absolute errors in m and deg.")
     results, run_dirs = {}, []
     for group, key, label, flags in _cases(mode):
+        if group == "stray":
+            flags = ("--rig", rel(stray_rig(ctx, flags))) + REALISTIC + SUN_IN_VIEW
         dataset = ctx.dataset(f"lighting-{key}-x{msaa}")
         render_frames(ctx, dataset, msaa, CONOPS, sel, extra=("--depth",) + flags)
         out = analyze(ctx, f"lighting-{key}", dataset, "shelled", sel,
