@@ -126,6 +126,17 @@ std::optional<AutoExposureOptions> ResolveAutoExposure(const JobFlags& f) {
   return ae;
 }
 
+// --airspeed, --sky-temperature, --nacelle-excess: a thermal rig's scene, where any is given.
+std::optional<ThermalSceneOptions> ResolveThermal(const JobFlags& f) {
+  if (!f.airspeed_mps && !f.sky_temperature_k && !f.nacelle_excess_k) return std::nullopt;
+  ThermalSceneOptions thermal;
+  if (f.airspeed_mps) thermal.airspeed_mps = *f.airspeed_mps;
+  if (f.sky_temperature_k) thermal.sky_temperature_k = *f.sky_temperature_k;
+  if (f.nacelle_excess_k) thermal.nacelle_excess_k = *f.nacelle_excess_k;
+  thermal.Check();
+  return thermal;
+}
+
 // The background flags of `render` (and `bench`); the defaults are BackgroundOptions'.
 void AddBackgroundFlags(CLI::App& cmd, JobFlags& f, bool kind) {
   aar::BackgroundOptions& b = f.job.background;
@@ -229,6 +240,13 @@ void AddLightFlags(CLI::App& cmd, JobFlags& f) {
   cmd.add_option("--ae-max-ev", f.ae_max_ev,
                  "with --auto-exposure: the camera's most exposure over the rig's [EV] (longest shutter, widest "
                  "aperture, highest gain), -10 to 24 [default: 24]");
+  cmd.add_option("--airspeed", f.airspeed_mps,
+                 "a thermal rig (lwir): the aircraft's true airspeed, their skins at its recovery temperature "
+                 "[m/s] [default: 120]");
+  cmd.add_option("--sky-temperature", f.sky_temperature_k,
+                 "a thermal rig: the flat sky's brightness temperature in the band [K] [default: 220]");
+  cmd.add_option("--nacelle-excess", f.nacelle_excess_k,
+                 "a thermal rig: the receiver's engine nacelles this much warmer than its skin [K] [default: 40]");
   cmd.add_option("--floodlight", f.floodlight_lx,
                  "the tanker's floodlight between the cameras, aimed at the path's nearest receiver position, "
                  "giving this illuminance there [lx], 0.1 to 10000 (e.g. 50 at night)");
@@ -276,6 +294,7 @@ void ResolveLightingFlags(JobFlags& f) {
   f.job.background.night = ResolveNight(f);
   f.job.floodlight = ResolveFloodlight(f);
   f.job.auto_exposure = ResolveAutoExposure(f);
+  f.job.thermal = ResolveThermal(f);
 }
 
 }  // namespace aar

@@ -37,6 +37,7 @@ struct JobFlags {
   std::optional<double> floodlight_lx, floodlight_beam_deg;
   bool auto_exposure = false;
   std::optional<double> ae_target, ae_time_constant_s, ae_max_ev;
+  std::optional<double> airspeed_mps, sky_temperature_k, nacelle_excess_k;
   std::string shading = aar::ToString(aar::RenderJobOptions{}.shading);
 };
 

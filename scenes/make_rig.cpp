@@ -4,7 +4,8 @@
 // scenes/rig-noisy.json (rig.json with an image sensor),
 // scenes/rig-rolling.json (its sensor with a rolling shutter) and
 // scenes/rig-1080p.json, scenes/rig-2160p.json (rig.json's cameras at
-// higher resolutions) from their presets (rig_presets.h), atomically.
+// higher resolutions) and scenes/rig-lwir.json (a thermal pair) from their
+// presets (rig_presets.h), atomically.
 //
 //   aar-make-rig --out scenes/
 
@@ -21,7 +22,7 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "Generate the committed stereo rigs rig.json, rig-thesis.json, rig-distorted.json, rig-noisy.json, "
-      "rig-rolling.json, rig-1080p.json and rig-2160p.json (deterministic)."};
+      "rig-rolling.json, rig-1080p.json, rig-2160p.json and rig-lwir.json (deterministic)."};
   std::string out_dir = "scenes";
   app.add_option("--out", out_dir, "output folder (scenes/)");
   CLI11_PARSE(app, argc, argv);
@@ -33,7 +34,7 @@ int main(int argc, char** argv) {
          {std::pair{"rig.json", sc::DefaultRig()}, std::pair{"rig-thesis.json", sc::ThesisRig()},
           std::pair{"rig-distorted.json", sc::DistortedRig()}, std::pair{"rig-noisy.json", sc::NoisyRig()},
           std::pair{"rig-rolling.json", sc::RollingRig()}, std::pair{"rig-1080p.json", sc::Rig1080p()},
-          std::pair{"rig-2160p.json", sc::Rig2160p()}}) {
+          std::pair{"rig-2160p.json", sc::Rig2160p()}, std::pair{"rig-lwir.json", sc::LwirRig()}}) {
       const std::filesystem::path path = out / name;
       aar::WriteFileAtomic(path, sc::FormatRig(preset));
       const aar::StereoRig rig = aar::LoadRig(path);  // the written file reads back as a rig

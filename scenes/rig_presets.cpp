@@ -68,6 +68,14 @@ std::string Sensor(const SensorParams& sensor) {
   return o.str();
 }
 
+std::string Lwir(const ThermalCamera& lwir) {
+  std::ostringstream o;
+  o << "  \"lwir\": {\"seed\": " << lwir.seed << ", \"band_um\": [" << Num(lwir.band_min_um) << ", "
+    << Num(lwir.band_max_um) << "], \"netd_mk\": " << Num(lwir.netd_mk)
+    << ", \"nonuniformity_mk\": " << Num(lwir.nonuniformity_mk) << "},\n";
+  return o.str();
+}
+
 }  // namespace
 
 RigPreset DefaultRig() {
@@ -157,6 +165,31 @@ RigPreset NoisyRig() {
   return r;
 }
 
+RigPreset LwirRig() {
+  RigPreset r = DefaultRig();
+  const RigPreset base;
+  // An uncooled microbolometer of the 640 x 512 class (12 um pixels): NETD
+  // 50 mK and a residual fixed pattern of 25 mK after its non-uniformity
+  // correction, the order of data sheets for such cores; the lens gives
+  // rig.json's vertical field of view (46.2 deg), so 600 px.
+  r.image_width = 640;
+  r.image_height = 512;
+  r.f_px = base.f_px * 512 / base.image_height;
+  r.cx_px = 319.5;
+  r.cy_px = 255.5;
+  ThermalCamera lwir;
+  lwir.netd_mk = 50.0;
+  lwir.nonuniformity_mk = 25.0;
+  r.lwir = lwir;
+  r.description =
+      "A long-wave infrared (8-14 um) stereo pair in the place of scenes/rig.json's cameras, with their vertical field "
+      "of view at 640 x 512: NETD 50 mK, a 25 mK fixed pattern; radiometric 16-bit images, docs/rendering.md, "
+      "section Thermal camera. Positions in the tanker body frame (x forward, y left, z up, metres). Rotations are "
+      "tanker_from_camera: columns are the camera's x (right), y (down), z (optical axis) expressed in the tanker "
+      "frame.";
+  return r;
+}
+
 RigPreset RollingRig() {
   RigPreset r = NoisyRig();
   // The same sensor read out row by row over 30 ms: a CMOS rolling shutter of
@@ -179,7 +212,8 @@ std::string FormatRig(const RigPreset& r) {
   std::ostringstream o;
   o << "{\n"
     << "  \"schema\": \""
-    << (r.sensor       ? "aar-rig/3"
+    << (r.lwir         ? "aar-rig/4"
+        : r.sensor     ? "aar-rig/3"
         : Distorted(r) ? "aar-rig/2"
                        : "aar-rig/1")
     << "\",\n"
@@ -192,7 +226,8 @@ std::string FormatRig(const RigPreset& r) {
     << "    \"right\": {\n"
     << Camera(r, r.half_baseline_m, r.right_distortion) << "    }\n"
     << "  },\n"
-    << (r.sensor ? Sensor(*r.sensor) : "") << "  \"near_m\": " << Num(r.near_m) << ",\n"
+    << (r.sensor ? Sensor(*r.sensor) : "") << (r.lwir ? Lwir(*r.lwir) : "") << "  \"near_m\": " << Num(r.near_m)
+    << ",\n"
     << "  \"contact_position_m\": [" << Num(contact_x) << ", " << Num(r.centre_m[1]) << ", " << Num(contact_z) << "]\n"
     << "}\n";
   return o.str();

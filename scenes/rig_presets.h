@@ -8,6 +8,7 @@
 #include <string>
 
 #include "aar/sensor.h"
+#include "aar/thermal.h"
 
 namespace aar::scenes {
 
@@ -35,6 +36,7 @@ struct RigPreset {
   LensCoefficients left_distortion{};   ///< all zero: pinhole (written as aar-rig/1, no "distortion")
   LensCoefficients right_distortion{};  ///< all zero: pinhole
   std::optional<SensorParams> sensor;   ///< none: the ideal sensor (no "sensor" block; aar-rig/3 when set)
+  std::optional<ThermalCamera> lwir;    ///< a thermal pair instead ("lwir" block; aar-rig/4 when set)
 };
 
 /// scenes/rig.json: cameras 30 deg down, contact position on the optical axis at 32 m.
@@ -61,9 +63,14 @@ RigPreset RollingRig();
 RigPreset Rig1080p();
 RigPreset Rig2160p();
 
+/// scenes/rig-lwir.json: an uncooled LWIR pair (640 x 512, 8-14 um, NETD
+/// 50 mK) in scenes/rig.json's place with its vertical field of view.
+RigPreset LwirRig();
+
 /// The JSON text of a preset (the committed files' layout): aar-rig/1,
 /// aar-rig/2 with a "distortion" object per camera when either has any, or
-/// aar-rig/3 with a "sensor" block when the preset has a sensor.
+/// aar-rig/3 with a "sensor" block when the preset has a sensor, aar-rig/4
+/// with an "lwir" block when it has a thermal camera.
 std::string FormatRig(const RigPreset& rig);
 
 }  // namespace aar::scenes

@@ -2,8 +2,10 @@
 
 #include <png.h>
 
+#include <algorithm>
 #include <csetjmp>
 #include <cstring>
+#include <opencv2/imgproc.hpp>
 #include <vector>
 
 #include "aar/error.h"
@@ -88,6 +90,22 @@ cv::Mat DecodeVerifiedPng(std::string_view bytes, int flags) {
     image = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), flags);
   }
   return image;
+}
+
+void WindowThermalPair(cv::Mat& left, cv::Mat& right, const std::string& where) {
+  if (left.type() != CV_16UC1 || right.type() != CV_16UC1) {
+    throw Error(where + ": the rig declares an LWIR camera, the image is not one-channel 16-bit (radiometric)");
+  }
+  double lo_l = 0, hi_l = 0, lo_r = 0, hi_r = 0;
+  cv::minMaxLoc(left, &lo_l, &hi_l);
+  cv::minMaxLoc(right, &lo_r, &hi_r);
+  const double lo = std::min(lo_l, lo_r), hi = std::max(hi_l, hi_r);
+  const double scale = hi > lo ? 255.0 / (hi - lo) : 0.0;
+  for (cv::Mat* image : {&left, &right}) {
+    cv::Mat grey;
+    image->convertTo(grey, CV_8U, scale, -lo * scale);  // saturating, round to nearest
+    cv::cvtColor(grey, *image, cv::COLOR_GRAY2BGR);
+  }
 }
 
 cv::Mat ReadListedImage(const OpenedDataset& dataset, const FileRef& ref, int flags, const std::string& what) {

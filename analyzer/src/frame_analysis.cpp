@@ -367,9 +367,11 @@ FrameResult FrameAnalyzer::Analyze(const OpenedDataset& dataset, size_t index, c
     r.range_m = sidecar.range_m;
     r.region = RegionForRange(sidecar.range_m);
     FrameInputs in;
-    in.left = ReadImage(dataset, sidecar.files.at("left"));
-    in.right = ReadImage(dataset, sidecar.files.at("right"));
+    const bool thermal = dataset.has_rig() && dataset.rig().lwir.has_value();
+    in.left = ReadImage(dataset, sidecar.files.at("left"), thermal ? cv::IMREAD_UNCHANGED : cv::IMREAD_COLOR);
+    in.right = ReadImage(dataset, sidecar.files.at("right"), thermal ? cv::IMREAD_UNCHANGED : cv::IMREAD_COLOR);
     in.left_path = dataset.PathOf(sidecar.files.at("left").path);
+    if (thermal) WindowThermalPair(in.left, in.right, in.left_path);
     if (in.left.size() != rectifier_.image_size() || in.right.size() != rectifier_.image_size()) {
       throw Error(in.left_path + ": image size differs from the calibration's");
     }

@@ -121,7 +121,10 @@ nlohmann::json RigToJson(const StereoRig& rig) {
     return j;
   };
   const Eigen::Vector3d& contact = rig.contact_position_m;
-  const char* schema = rig.sensor ? kRigSchemaV3 : HasDistortion(rig) ? kRigSchemaV2 : kRigSchemaV1;
+  const char* schema = rig.lwir             ? kRigSchemaV4
+                       : rig.sensor         ? kRigSchemaV3
+                       : HasDistortion(rig) ? kRigSchemaV2
+                                            : kRigSchemaV1;
   nlohmann::json j = {{"schema", schema},
                       {"image_width", rig.left.intrinsics.width_px},
                       {"image_height", rig.left.intrinsics.height_px},
@@ -129,6 +132,7 @@ nlohmann::json RigToJson(const StereoRig& rig) {
                       {"near_m", rig.near_m},
                       {"contact_position_m", {contact.x(), contact.y(), contact.z()}}};
   if (rig.sensor) j["sensor"] = SensorToJson(*rig.sensor);
+  if (rig.lwir) j["lwir"] = ThermalToJson(*rig.lwir);
   return j;
 }
 
@@ -137,14 +141,17 @@ StereoRig RigFromJson(const nlohmann::json& j, const std::string& where) {
     StereoRig rig;
     bool allow_distortion = false;
     bool allow_sensor = false;
+    bool allow_lwir = false;
     if (j.contains("schema")) {
       const nlohmann::json& schema = j.at("schema");
-      if (!schema.is_string() || (schema != kRigSchemaV1 && schema != kRigSchemaV2 && schema != kRigSchemaV3)) {
+      if (!schema.is_string() ||
+          (schema != kRigSchemaV1 && schema != kRigSchemaV2 && schema != kRigSchemaV3 && schema != kRigSchemaV4)) {
         throw Error(where + ": unknown schema " + schema.dump() + " (expected \"" + kRigSchemaV1 + "\", \"" +
-                    kRigSchemaV2 + "\" or \"" + kRigSchemaV3 + "\")");
+                    kRigSchemaV2 + "\", \"" + kRigSchemaV3 + "\" or \"" + kRigSchemaV4 + "\")");
       }
+      allow_lwir = schema == kRigSchemaV4;
       allow_distortion = schema != kRigSchemaV1;
-      allow_sensor = schema == kRigSchemaV3;
+      allow_sensor = schema == kRigSchemaV3 || schema == kRigSchemaV4;
     }
     const int width = static_cast<int>(JsonInteger(j.at("image_width"), 1, 16384, where + ": image_width"));
     const int height = static_cast<int>(JsonInteger(j.at("image_height"), 1, 16384, where + ": image_height"));
@@ -168,6 +175,11 @@ StereoRig RigFromJson(const nlohmann::json& j, const std::string& where) {
     if (j.contains("sensor")) {
       if (!allow_sensor) throw Error(where + ": 'sensor' needs schema \"" + std::string(kRigSchemaV3) + "\"");
       rig.sensor = SensorFromJson(j.at("sensor"), where);
+    }
+    if (j.contains("lwir")) {
+      if (!allow_lwir) throw Error(where + ": 'lwir' needs schema \"" + std::string(kRigSchemaV4) + "\"");
+      if (rig.sensor) throw Error(where + ": 'sensor' and 'lwir': a rig's cameras are visible or thermal, not both");
+      rig.lwir = ThermalFromJson(j.at("lwir"), where);
     }
     return rig;
   } catch (const nlohmann::json::exception& e) {

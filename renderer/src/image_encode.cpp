@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
@@ -82,6 +83,18 @@ cv::Mat ToSrgb8(const LinearImage& image) {
     const float* src = &image.rgb[static_cast<size_t>(y) * image.width * 3];
     for (int x = 0; x < image.width; ++x) {
       for (int c = 0; c < 3; ++c) row[x * 3 + (2 - c)] = Srgb8(src[x * 3 + c], thresholds, buckets);
+    }
+  }
+  return out;
+}
+
+cv::Mat ToCentikelvin16(const LinearImage& image) {
+  cv::Mat out(image.height, image.width, CV_16UC1);
+  for (int y = 0; y < image.height; ++y) {
+    uint16_t* row = out.ptr<uint16_t>(y);
+    for (int x = 0; x < image.width; ++x) {
+      const double kelvin = image.rgb[(static_cast<size_t>(y) * image.width + x) * 3];
+      row[x] = static_cast<uint16_t>(std::clamp(std::lround(100.0 * kelvin), 0L, 65535L));
     }
   }
   return out;

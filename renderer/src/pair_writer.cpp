@@ -42,7 +42,7 @@ std::string EncodeView(const RenderedPair& pair, size_t view, PngStrategy color_
     effected = effect->Apply(*radiance, exposure);
     radiance = &effected;
   }
-  return EncodePng(ToSrgb8(*radiance), color_png);
+  return EncodePng(pair.radiometric ? ToCentikelvin16(*radiance) : ToSrgb8(*radiance), color_png);
 }
 
 }  // namespace

@@ -155,6 +155,11 @@ RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig
   RenderSession s;
   s.rig = rig;
   if (rig.sensor) s.sensor = std::make_shared<const SensorModel>(*rig.sensor);
+  if (rig.lwir) {
+    s.thermal = std::make_shared<const ThermalScene>(*rig.lwir, options.thermal.value_or(ThermalSceneOptions{}),
+                                                     background.altitude_m);
+    s.thermal_sensor = std::make_shared<const ThermalSensor>(s.thermal);
+  }
   VulkanContextOptions vk;
   vk.device_filter = options.device;
   s.context = std::make_unique<VulkanContext>(vk);
@@ -162,6 +167,7 @@ RenderSession OpenRenderSession(const RenderJobOptions& options, const StereoRig
   SceneRendererOptions render_options;
   render_options.max_anisotropy = options.anisotropy;
   render_options.background = background;
+  if (s.thermal) render_options.sky_linear.fill(static_cast<float>(s.thermal->sky_radiance));
   render_options.shading = lighting.shading;
   render_options.shadows = lighting.shadows;
   render_options.floodlight = lighting.floodlight;
@@ -211,6 +217,7 @@ RenderedPair RenderPair(RenderSession& session, const std::vector<BandScene>& ba
     // Applied on the writer's threads, beside the next pair's rendering.
     pair.effects[view] = session.ViewEffects(side);
   }
+  pair.radiometric = session.thermal != nullptr;
   for (const std::string& side : depth_sides) pair.truth.push_back(RenderDepthTruth(session, bands, side, times));
   return pair;
 }
@@ -240,6 +247,13 @@ nlohmann::json SessionManifestHeader(const RenderSession& session, const std::st
                            {"inputs", {{"rig", {{"file", kRigName}, {"sha256", rig_hash}}}}}};
   if (session.left_lens) header["image"]["lens"] = LensJson(session);                   // absent for a pinhole rig
   if (session.rig.sensor) header["image"]["sensor"] = SensorJson(*session.rig.sensor);  // absent: the ideal sensor
+  if (session.thermal) {
+    header["image"]["encoding"] = "PNG, 16-bit, one channel: brightness temperature x 100 [0.01 K]";
+    header["image"]["lwir"] = ThermalToJson(*session.rig.lwir);
+    header["image"]["lwir"]["noise"] =
+        "radiance + netd_mk x dL/dT(300 K) x n (seed, frames 0 / calib 1, index, camera, pixel) + nonuniformity_mk x "
+        "dL/dT(300 K) x m (seed, camera, pixel), then the band's brightness temperature (thermal_sensor.h)";
+  }
   return header;
 }
 

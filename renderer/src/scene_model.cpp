@@ -220,9 +220,11 @@ SceneModel LoadSceneModel(const std::filesystem::path& path) {
   out.path = path;
   std::vector<int> texture_of_image(model.images.size(), -1);
   ForEachMeshNode(model, where, [&](const tinygltf::Mesh& mesh, const Eigen::Matrix4d& body_from_node) {
+    const size_t first = out.primitives.size();
     for (const tinygltf::Primitive& prim : mesh.primitives) {
       AppendPrimitive(model, prim, body_from_node, where, texture_of_image, out);
     }
+    for (size_t i = first; i < out.primitives.size(); ++i) out.primitives[i].mesh = mesh.name;
   });
   if (out.primitives.empty()) throw Error(where + ": model has no triangles");
   return out;

@@ -17,6 +17,7 @@
 #include "aar/renderer/dataset_writer.h"
 #include "aar/renderer/daylight.h"
 #include "aar/renderer/exposure.h"
+#include "aar/renderer/flight_path_models.h"
 #include "aar/renderer/msaa.h"
 #include "aar/renderer/pair_writer.h"
 #include "aar/renderer/projection.h"
@@ -107,55 +108,6 @@ nlohmann::json BoomJson(bool posed_by_path) {
           {"tanker_from_boom_tube", "tanker_from_boom * Translation(-extension_m, 0, 0)"}};
 }
 
-// The models of a flight-path job: the receiver, the tanker, the boom and
-// its tube (with_boom) and the propeller (with_propellers).
-struct FlightPathModels {
-  SceneModel receiver, tanker;
-  bool with_boom = false, with_propellers = false;
-  std::optional<SceneModel> boom, boom_tube, propeller;
-  std::vector<ReceiverLight> lights;  // with --receiver-lights
-};
-
-FlightPathModels LoadFlightPathModels(const RenderJobOptions& options, const std::vector<FlightSample>& path) {
-  FlightPathModels models;
-  models.receiver = LoadSceneModel(options.receiver_model);
-  models.tanker = LoadSceneModel(options.tanker_model);
-  // The boom: posed by the path's columns, or stowed on a 7-column path with --boom.
-  models.with_boom = options.boom || path.front().boom.has_value();
-  if (models.with_boom) {
-    models.boom = LoadSceneModel(options.boom_model);
-    models.boom_tube = LoadSceneModel(options.boom_tube_model);
-  }
-  models.with_propellers = options.propeller_rpm > 0.0;
-  if (models.with_propellers) models.propeller = LoadSceneModel(options.propeller_model);
-  if (options.receiver_lights) models.lights = ReceiverLightsOf(models.receiver);
-  return models;
-}
-
-// The flight-path models' indices on the renderer; -1 for the boom's without it.
-struct FlightPathModelIndices {
-  ReceiverModels receiver;
-  int tanker = -1, boom = -1, boom_tube = -1;
-};
-
-// Adds the models to the session's renderer: receiver, tanker, boom, boom
-// tube, propeller, the lights' spheres (at the background's render scale).
-FlightPathModelIndices AddFlightPathModels(RenderSession& session, const FlightPathModels& models,
-                                           const BackgroundOptions& background) {
-  FlightPathModelIndices indices;
-  indices.receiver.airframe = session.renderer->AddModel(models.receiver);
-  indices.receiver.object_id = kReceiverObjectId;
-  indices.tanker = session.renderer->AddModel(models.tanker);
-  indices.boom = models.with_boom ? session.renderer->AddModel(*models.boom) : -1;
-  indices.boom_tube = models.with_boom ? session.renderer->AddModel(*models.boom_tube) : -1;
-  if (models.with_propellers) indices.receiver.propeller = session.renderer->AddModel(*models.propeller);
-  for (const ReceiverLight& light : models.lights) {
-    indices.receiver.lights.emplace_back(session.renderer->AddModel(LightSphereModel(light, RenderScale(background))),
-                                         light);
-  }
-  return indices;
-}
-
 // Hashes of the inputs a flight-path dataset keeps a copy of; the boom's empty without it.
 struct FlightPathInputHashes {
   std::string rig, receiver, path, boom, boom_tube;
@@ -198,6 +150,7 @@ nlohmann::json FlightPathFramesJson(const RenderJobOptions& options, const Rende
     frames["floodlight"]["illuminance_lx_at_aim"] = options.floodlight->illuminance_lx;
   }
   // Absent by day at the rig's exposure, likewise.
+  if (session.thermal) frames["thermal"] = session.thermal->Json();
   if (session.auto_exposure) {
     frames["auto_exposure"] = AutoExposureJson(*options.auto_exposure, options.exposure_ev,
                                                RenderScale(options.background), *session.auto_exposure);
@@ -395,15 +348,37 @@ void RenderJobOptions::Check() const {
   }
 }
 
+// A thermal rig renders emission over the flat sky: no light to shade, expose or cast shadows.
+void CheckThermalJob(const RenderJobOptions& options, const StereoRig& rig) {
+  const std::string where = options.rig.string() + " declares an LWIR camera (lwir): ";
+  if (!rig.lwir) {
+    if (options.thermal) {
+      throw Error("--airspeed, --sky-temperature and --nacelle-excess: only with a rig that declares lwir");
+    }
+    return;
+  }
+  if (options.background.kind != BackgroundKind::kFlat) {
+    throw Error(where + "the thermal camera renders over the flat sky only (--background flat)");
+  }
+  if (options.shading != Shading::kMatte || options.shadows || options.floodlight || options.receiver_lights ||
+      options.exposure_ev != 0.0 || options.auto_exposure) {
+    throw Error(where +
+                "--shading, --shadows, --floodlight, --receiver-lights, --exposure-ev and --auto-exposure "
+                "are the visible camera's; the thermal scene is emission (docs/rendering.md, \"Thermal "
+                "camera\")");
+  }
+}
+
 RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
   options.Check();
   const StereoRig rig = LoadRig(options.rig);
+  CheckThermalJob(options, rig);
   const StereoCalibration ideal = IdealCalibrationOf(rig, options.rig);
   const std::vector<FlightSample> path = ReadFlightPath(options.flight_path);
   options.selection.CheckWithin(path.size(), options.flight_path.string());
   const double readout_ms = rig.sensor ? rig.sensor->readout_ms : 0.0;
   if (options.shutter_ms > 0.0 || readout_ms > 0.0) CheckTimesIncrease(path, options.flight_path.string());
-  const FlightPathModels models = LoadFlightPathModels(options, path);
+  FlightPathModels models = LoadFlightPathModels(options, path);
   CheckDatasetFolderWritable(options.output);
   SessionLighting lighting{options.shading, options.shadows, options.exposure_ev, std::nullopt};
   if (options.floodlight) {
@@ -412,6 +387,7 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
     lighting.floodlight = MakeFloodlight(*options.floodlight, rig, positions);
   }
   RenderSession session = OpenRenderSession(options, rig, options.background, lighting);
+  if (session.thermal) ApplyThermal(models, *session.thermal);
   const FlightPathModelIndices indices = AddFlightPathModels(session, models, options.background);
   if (options.auto_exposure) MeterAutoExposure(options, models, lighting, path, session);
   const std::vector<double> exposure_offsets = ExposureOffsets(options.shutter_ms, options.time_samples);
@@ -436,6 +412,11 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
 RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   options.Check();
   const StereoRig rig = LoadRig(options.rig);
+  if (rig.lwir) {
+    throw Error(options.rig.string() +
+                " declares an LWIR camera (lwir): calibration boards in the infrared are not rendered yet; "
+                "analyze its frames with the dataset's calibration_ideal.yaml");
+  }
   const StereoCalibration ideal = IdealCalibrationOf(rig, options.rig);
   const SceneModel board = LoadSceneModel(options.board_model);
   CalibPoseOptions pose_options;

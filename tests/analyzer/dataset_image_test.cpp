@@ -2,11 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 #include <string>
 #include <vector>
+
+#include "aar/error.h"
 
 namespace aar {
 namespace {
@@ -63,6 +66,35 @@ TEST(DatasetImage, BrokenDataDecodesToNothing) {
   for (size_t i = idat + 6; i < idat + 40; ++i) bytes[i] = static_cast<char>(0xFF);
   EXPECT_TRUE(DecodeVerifiedPng(bytes, cv::IMREAD_COLOR).empty());
   EXPECT_TRUE(DecodeVerifiedPng("not a png", cv::IMREAD_COLOR).empty());
+}
+
+// A thermal pair: one window for both images, the pair's coldest count to
+// 0 and hottest to 255, so that a temperature reads the same in both; a
+// visible image is refused with its file named.
+TEST(DatasetImage, AThermalPairIsWindowedAsOne) {
+  cv::Mat left(2, 2, CV_16UC1), right(2, 2, CV_16UC1);
+  left.at<uint16_t>(0, 0) = 22000;  // 220 K, the pair's coldest
+  left.at<uint16_t>(0, 1) = 24700;
+  left.at<uint16_t>(1, 0) = 24700;
+  left.at<uint16_t>(1, 1) = 25350;
+  right.setTo(24700);
+  right.at<uint16_t>(1, 1) = 28400;  // the hottest, in the other image
+  WindowThermalPair(left, right, "l.png");
+  ASSERT_EQ(left.type(), CV_8UC3);
+  ASSERT_EQ(right.type(), CV_8UC3);
+  const auto grey = [](const cv::Mat& m, int y, int x) { return int(m.at<cv::Vec3b>(y, x)[0]); };
+  EXPECT_EQ(grey(left, 0, 0), 0);
+  EXPECT_EQ(grey(right, 1, 1), 255);
+  EXPECT_EQ(grey(left, 0, 1), grey(right, 0, 0));  // 247 K in both
+  EXPECT_EQ(grey(left, 0, 1), int(std::lround(2700.0 * 255.0 / 6400.0)));
+  EXPECT_EQ(grey(left, 1, 1), int(std::lround(3350.0 * 255.0 / 6400.0)));
+  cv::Mat colour(2, 2, CV_8UC3, cv::Scalar(1, 2, 3)), other(2, 2, CV_16UC1, cv::Scalar(1));
+  try {
+    WindowThermalPair(colour, other, "l.png");
+    FAIL() << "an 8-bit image was windowed";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("l.png: the rig declares an LWIR camera"), std::string::npos);
+  }
 }
 
 }  // namespace

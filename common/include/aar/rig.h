@@ -10,16 +10,20 @@
 
 #include "aar/lens.h"
 #include "aar/sensor.h"
+#include "aar/thermal.h"
 
 namespace aar {
 
 /// Rig file schemas: 1 = pinhole cameras, 2 = with "distortion" per camera,
-/// 3 = also with a "sensor" block. Rigs are written as 2 only when a camera
-/// has distortion and as 3 only when the rig has a sensor, so earlier rigs
-/// (and the datasets made with them) are unchanged; all three are read.
+/// 3 = also with a "sensor" block, 4 = also with an "lwir" block (a thermal
+/// pair; older readers so refuse it rather than render it as visible).
+/// Rigs are written as 2 only when a camera has distortion, as 3 only when
+/// the rig has a sensor and as 4 only with lwir, so earlier rigs (and the
+/// datasets made with them) are unchanged; all four are read.
 inline constexpr const char* kRigSchemaV1 = "aar-rig/1";
 inline constexpr const char* kRigSchemaV2 = "aar-rig/2";
 inline constexpr const char* kRigSchemaV3 = "aar-rig/3";
+inline constexpr const char* kRigSchemaV4 = "aar-rig/4";
 
 struct Intrinsics {
   int width_px = 1024;      ///< image width [px]
@@ -51,6 +55,9 @@ struct StereoRig {
   /// The image sensor of both cameras; none (the default): the ideal
   /// noise-free sensor, images exactly the rendered radiance.
   std::optional<SensorParams> sensor;
+  /// A long-wave infrared pair instead (thermal.h; aar-rig/3): the renderer
+  /// makes radiometric thermal images; exclusive with `sensor`.
+  std::optional<ThermalCamera> lwir;
 
   /// right_from_left: OpenCV stereoCalibrate's (R, T).
   Eigen::Isometry3d RightFromLeft() const;

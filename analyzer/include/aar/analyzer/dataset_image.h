@@ -24,4 +24,11 @@ cv::Mat DecodeVerifiedPng(std::string_view bytes, int flags);
 /// ("<path>: cannot decode <what>").
 cv::Mat ReadListedImage(const OpenedDataset& dataset, const FileRef& ref, int flags, const std::string& what);
 
+/// A thermal pair (a rig with lwir: one-channel 16-bit PNGs, 0.01 K per
+/// count) as the 8-bit BGR images the matcher takes: one linear window for
+/// both, as a camera's automatic gain control maps its scene, the pair's
+/// coldest count to 0 and its hottest to 255 (rounded); `where` names the
+/// file of an image that is not one-channel 16-bit.
+void WindowThermalPair(cv::Mat& left, cv::Mat& right, const std::string& where);
+
 }  // namespace aar

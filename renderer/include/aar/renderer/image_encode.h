@@ -13,6 +13,10 @@ namespace aar {
 /// round-to-nearest of the sRGB transfer function.
 cv::Mat ToSrgb8(const LinearImage& image);
 
+/// Radiometric 16-bit: the first channel (a brightness temperature [K]) x
+/// 100, rounded, clamped to [0, 65535]: 0.01 K per count, one channel.
+cv::Mat ToCentikelvin16(const LinearImage& image);
+
 /// PNG settings (lossless: the same pixels either way).
 enum class PngStrategy {
   /// libpng's adaptive filter choice, zlib level 3, Z_DEFAULT_STRATEGY: the
@@ -27,7 +31,7 @@ enum class PngStrategy {
   kFast,
 };
 
-/// PNG bytes of an 8-bit image (ToSrgb8's BGR, or a one-channel mask).
+/// PNG bytes of an 8-bit image (ToSrgb8's BGR, or a one-channel mask) or of ToCentikelvin16's.
 std::string EncodePng(const cv::Mat& bgr8, PngStrategy strategy = PngStrategy::kDefault);
 
 /// Writes the depth of a ground-truth image as a one-channel 32-bit float

@@ -43,6 +43,9 @@ struct RenderedPair {
   /// the rendered radiance is encoded. The render job's session owns them
   /// and outlives its writer.
   std::array<std::vector<const ViewEffect*>, 2> effects;
+  /// A thermal pair: the effects end in brightness temperatures, written as
+  /// radiometric 16-bit PNGs (ToCentikelvin16) instead of sRGB.
+  bool radiometric = false;
 };
 
 /// Time spent per stage [ms], summed over the pairs written.

@@ -23,6 +23,7 @@
 #include "aar/renderer/sensor_model.h"
 #include "aar/renderer/stereo_render_job.h"
 #include "aar/renderer/sun_glare.h"
+#include "aar/renderer/thermal_sensor.h"
 #include "aar/renderer/vulkan_context.h"
 #include "aar/rig.h"
 
@@ -49,6 +50,9 @@ struct RenderSession {
   // With auto-exposure: every frame's exposure and metered level (the exposure's factors per frame).
   std::optional<AutoExposureSchedule> auto_exposure;
   std::optional<Floodlight> floodlight;  // the tanker's floodlight, where it shines
+  // A thermal rig's scene radiometry and detector (the rig's lwir); null otherwise.
+  std::shared_ptr<const ThermalScene> thermal;
+  std::shared_ptr<const ThermalSensor> thermal_sensor;
   // The rig's sensor, its fixed patterns drawn once for the whole run; null without one.
   std::shared_ptr<const SensorModel> sensor;
   // A rolling shutter (the sensor's readout_ms > 0): the readout time and
@@ -75,6 +79,7 @@ struct RenderSession {
     if (exposure) effects.push_back(&*exposure);
     if (Lens(side)) effects.push_back(&*Lens(side));
     if (sensor) effects.push_back(sensor.get());
+    if (thermal_sensor) effects.push_back(thermal_sensor.get());
     return effects;
   }
   /// The camera the scene is rendered with: the rig's, or its pinhole stand-in.

@@ -34,6 +34,7 @@ struct Primitive {
   float roughness = 1.0f;  ///< glTF roughnessFactor (perceptual roughness; default 1)
   /// A light: base_color_factor's RGB is its radiance, unlit (receiver_lights.h).
   bool emissive = false;
+  std::string mesh;  ///< the glTF mesh's name (the scene generators name it after its part: "nacelle_left", ...)
 };
 
 struct SceneModel {

@@ -16,6 +16,7 @@
 #include "aar/renderer/background.h"
 #include "aar/renderer/floodlight.h"
 #include "aar/renderer/shading.h"
+#include "aar/renderer/thermal_scene.h"
 
 namespace aar {
 
@@ -67,6 +68,9 @@ struct RenderJobOptions {
   /// Auto-exposure (auto_exposure.h; render job): the camera meters each
   /// frame and sets the next one's exposure, from exposure_ev at frame 0.
   std::optional<AutoExposureOptions> auto_exposure;
+  /// A thermal rig's scene (thermal_scene.h; render job): airspeed, sky,
+  /// nacelles; only with a rig that declares lwir (its defaults then when empty).
+  std::optional<ThermalSceneOptions> thermal;
   /// The tanker's floodlight on the receiver (floodlight.h; render job).
   std::optional<FloodlightOptions> floodlight;
   std::filesystem::path flight_path = DataFile("flightpaths/conops.csv");  ///< flight path (render job)
