@@ -128,11 +128,12 @@ std::optional<AutoExposureOptions> ResolveAutoExposure(const JobFlags& f) {
 
 // --airspeed, --sky-temperature, --nacelle-excess: a thermal rig's scene, where any is given.
 std::optional<ThermalSceneOptions> ResolveThermal(const JobFlags& f) {
-  if (!f.airspeed_mps && !f.sky_temperature_k && !f.nacelle_excess_k) return std::nullopt;
+  if (!f.airspeed_mps && !f.sky_temperature_k && !f.nacelle_excess_k && !f.board_temperature_k) return std::nullopt;
   ThermalSceneOptions thermal;
   if (f.airspeed_mps) thermal.airspeed_mps = *f.airspeed_mps;
   if (f.sky_temperature_k) thermal.sky_temperature_k = *f.sky_temperature_k;
   if (f.nacelle_excess_k) thermal.nacelle_excess_k = *f.nacelle_excess_k;
+  if (f.board_temperature_k) thermal.board_temperature_k = *f.board_temperature_k;
   thermal.Check();
   return thermal;
 }
@@ -268,6 +269,9 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib) {
     cmd.add_flag("--corner-boards", f.job.corner_boards,
                  "also render 8 boards pushed towards the image corners and edges (covers the periphery, where lens "
                  "distortion is largest)");
+    cmd.add_option("--board-temperature", f.board_temperature_k,
+                   "a thermal rig (lwir): the heated board's temperature, its light squares high-emissivity paint and "
+                   "its dark ones polished metal [K] [default: 320]");
   } else {
     AddSceneFlags(cmd, f);
     AddLightFlags(cmd, f);
@@ -294,6 +298,11 @@ void ResolveLightingFlags(JobFlags& f) {
   f.job.background.night = ResolveNight(f);
   f.job.floodlight = ResolveFloodlight(f);
   f.job.auto_exposure = ResolveAutoExposure(f);
+  f.job.thermal = ResolveThermal(f);
+}
+
+void ResolveCalibFlags(JobFlags& f) {
+  f.job.far_boards_m = ParseFarBoards(f.far_boards);
   f.job.thermal = ResolveThermal(f);
 }
 

@@ -37,7 +37,7 @@ struct JobFlags {
   std::optional<double> floodlight_lx, floodlight_beam_deg;
   bool auto_exposure = false;
   std::optional<double> ae_target, ae_time_constant_s, ae_max_ev;
-  std::optional<double> airspeed_mps, sky_temperature_k, nacelle_excess_k;
+  std::optional<double> airspeed_mps, sky_temperature_k, nacelle_excess_k, board_temperature_k;
   std::string shading = aar::ToString(aar::RenderJobOptions{}.shading);
 };
 
@@ -46,5 +46,7 @@ void AddJobFlags(CLI::App& cmd, JobFlags& f, bool calib);
 /// Of a flight-path job: the sun, daylight, night, floodlight and auto-exposure
 /// the flags give into f.job, each refused where its flags disagree.
 void ResolveLightingFlags(JobFlags& f);
+/// Of a calibration job: the far boards and a thermal rig's board temperature into f.job.
+void ResolveCalibFlags(JobFlags& f);
 
 }  // namespace aar

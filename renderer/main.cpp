@@ -92,7 +92,7 @@ int RunJob(int argc, char** argv, bool calib) {
   flags.job.selection = aar::ParseFrameSelection(flags.frames, flags.shard);
   flags.job.background.kind = aar::ParseBackgroundKind(flags.background);
   if (calib) {
-    flags.job.far_boards_m = aar::ParseFarBoards(flags.far_boards);
+    aar::ResolveCalibFlags(flags);
   } else {
     aar::ResolveLightingFlags(flags);
     flags.job.shading = aar::ParseShading(flags.shading);

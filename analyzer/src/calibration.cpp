@@ -127,8 +127,14 @@ void BoardDepthRange(const BoardSpec& board, const cv::Mat& rvecs, const cv::Mat
 }
 
 // A board image, checked against its sidecar's and the manifest's SHA-256 first.
+// A thermal rig's (lwir) is windowed into 8 bits (WindowThermalImage).
 cv::Mat ReadImage(const OpenedDataset& dataset, const FileRef& ref) {
-  return ReadListedImage(dataset, ref, cv::IMREAD_COLOR, "calibration image");
+  if (!dataset.has_rig() || !dataset.rig().lwir) {
+    return ReadListedImage(dataset, ref, cv::IMREAD_COLOR, "calibration image");
+  }
+  cv::Mat image = ReadListedImage(dataset, ref, cv::IMREAD_UNCHANGED, "calibration image");
+  WindowThermalImage(image, dataset.PathOf(ref.path));
+  return image;
 }
 
 // The comparison's ideal: calibration_ideal.yaml where the dataset has it,

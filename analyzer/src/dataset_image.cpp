@@ -108,6 +108,11 @@ void WindowThermalPair(cv::Mat& left, cv::Mat& right, const std::string& where) 
   }
 }
 
+void WindowThermalImage(cv::Mat& image, const std::string& where) {
+  cv::Mat twin = image.clone();
+  WindowThermalPair(image, twin, where);
+}
+
 cv::Mat ReadListedImage(const OpenedDataset& dataset, const FileRef& ref, int flags, const std::string& what) {
   const std::string path = dataset.PathOf(ref.path);
   const std::string bytes = dataset.ReadFile(ref);

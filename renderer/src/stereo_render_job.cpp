@@ -412,11 +412,7 @@ RenderJobResult RenderFlightPathJob(const RenderJobOptions& options) {
 RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   options.Check();
   const StereoRig rig = LoadRig(options.rig);
-  if (rig.lwir) {
-    throw Error(options.rig.string() +
-                " declares an LWIR camera (lwir): calibration boards in the infrared are not rendered yet; "
-                "analyze its frames with the dataset's calibration_ideal.yaml");
-  }
+  if (options.thermal && !rig.lwir) throw Error("--board-temperature: only with a rig that declares lwir");
   const StereoCalibration ideal = IdealCalibrationOf(rig, options.rig);
   const SceneModel board = LoadSceneModel(options.board_model);
   CalibPoseOptions pose_options;
@@ -426,7 +422,7 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
   options.selection.CheckWithin(poses.size(), "calibration board poses");
   CheckDatasetFolderWritable(options.output);
   RenderSession session = OpenRenderSession(options, rig, BackgroundOptions{}, SessionLighting{});
-  const int board_index = session.renderer->AddModel(board);
+  const int board_index = session.renderer->AddModel(session.thermal ? session.thermal->ApplyBoard(board) : board);
   const std::vector<Eigen::Vector3d> board_points = board.AllPositions();
   const BoardSpec spec;
 
@@ -443,6 +439,7 @@ RenderJobResult RenderCalibrationJob(const RenderJobOptions& options) {
       {"texture_anisotropy", options.anisotropy},
       {"board", {{"inner_corners", {spec.inner_corners_x, spec.inner_corners_y}}, {"square_m", spec.square_m}}}};
   if (options.corner_boards) header["calib"]["corner_boards"] = true;  // absent: the earlier pose sets, unchanged
+  if (session.thermal) header["calib"]["thermal"] = session.thermal->BoardJson();
   const std::string settings = OpenManifest(options.output, "calib", header, [&] {
     CopyInput(options.output, options.rig, kRigName, rig_hash);
     WriteCalibration(options.output / kIdealCalibrationName, ideal);

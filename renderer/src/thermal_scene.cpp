@@ -15,6 +15,9 @@ void ThermalSceneOptions::Check() const {
   if (!(sky_temperature_k >= 20.0 && sky_temperature_k <= 400.0)) {
     throw Error("--sky-temperature " + std::to_string(sky_temperature_k) + ": expected 20 to 400 K");
   }
+  if (!(board_temperature_k >= 100.0 && board_temperature_k <= 1000.0)) {
+    throw Error("--board-temperature " + std::to_string(board_temperature_k) + ": expected 100 to 1000 K");
+  }
   if (!(nacelle_excess_k >= 0.0 && nacelle_excess_k <= 500.0)) {
     throw Error("--nacelle-excess " + std::to_string(nacelle_excess_k) + ": expected 0 to 500 K");
   }
@@ -61,6 +64,30 @@ SceneModel ThermalScene::Apply(const SceneModel& model) const {
     p.emissive = true;
   }
   return out;
+}
+
+SceneModel ThermalScene::ApplyBoard(const SceneModel& board) const {
+  SceneModel out = board;
+  out.textures.clear();
+  for (Primitive& p : out.primitives) {
+    const std::array<float, 4>& c = p.base_color_factor;
+    const double luminance = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    const double emissivity = 0.1 + 0.85 * std::clamp(luminance, 0.0, 1.0);
+    const float radiance = static_cast<float>(SurfaceRadiance(options.board_temperature_k, emissivity));
+    p.base_color_factor = {radiance, radiance, radiance, 1.0f};
+    p.texture = -1;
+    p.emissive = true;
+  }
+  return out;
+}
+
+nlohmann::json ThermalScene::BoardJson() const {
+  return {{"board_temperature_k", options.board_temperature_k},
+          {"sky_temperature_k", options.sky_temperature_k},
+          {"emissivity",
+           "0.1 + 0.85 x the material's luminance (light squares paint, dark squares and backing "
+           "polished metal)"},
+          {"encoding", "one-channel 16-bit PNG, brightness temperature x 100 (0.01 K per count)"}};
 }
 
 nlohmann::json ThermalScene::Json() const {

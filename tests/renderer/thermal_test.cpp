@@ -75,7 +75,7 @@ TEST(ThermalSensor, TheNoiseIsTheNetdAsARadianceAndThePatternIsTheCameras) {
 // Rendered (frame 600, x4, with depth): the sky reads its 220 K, the skin
 // 0.9 B(249.03 K) + 0.1 B(220 K) as a brightness temperature, the nacelles
 // 40 K warmer than the skin; both images are one-channel 16-bit PNGs, and
-// the manifest says so.
+// the manifest says so; the visible camera's light is refused.
 TEST(ThermalRender, ARadiometricPairReadsTheModelsTemperatures) {
   TempDir dir("thermal");
   RenderJobOptions o;
@@ -138,8 +138,43 @@ TEST(ThermalRender, ARadiometricPairReadsTheModelsTemperatures) {
   o.shading = Shading::kPbr;
   EXPECT_NE(test::ErrorOf([&] { RenderFlightPathJob(o); }).find("the thermal scene is emission"), std::string::npos);
   o.shading = Shading::kMatte;
-  EXPECT_NE(test::ErrorOf([&] { RenderCalibrationJob(o); }).find("calibration boards in the infrared"),
-            std::string::npos);
+}
+
+// The heated board (320 K): its light squares (luminance 0.9: e 0.865)
+// and dark ones (0.02: e 0.117) read e B(320 K) + (1 - e) B(220 K) as
+// brightness temperatures; the manifest records the board's temperature.
+TEST(ThermalRender, TheHeatedBoardShowsItsEmissivityPattern) {
+  TempDir dir("thermal-board");
+  RenderJobOptions o;
+  o.output = dir / "calib";
+  o.rig = SourcePath("scenes/rig-lwir.json");
+  o.board_model = SourcePath("scenes/calib_board.glb");
+  o.progress = false;
+  o.msaa = 4;
+  o.selection.begin = 0;
+  o.selection.end = 1;
+  RenderCalibrationJob(o);
+  const FrameSidecar s = ReadSidecar(SidecarPath(o.output, "calib", 0));
+  const cv::Mat left = cv::imread((o.output / s.files.at("left").path).string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(left.type(), CV_16UC1);
+  const ThermalScene scene(*LoadRig(o.rig).lwir, ThermalSceneOptions{}, 7000.0);
+  const auto reads = [&](double emissivity) {
+    return scene.table.BrightnessTemperature(scene.SurfaceRadiance(320.0, emissivity) * scene.reference_radiance);
+  };
+  const double light = reads(0.1 + 0.85 * 0.9), dark = reads(0.1 + 0.85 * 0.02);
+  int at_light = 0, at_dark = 0;
+  for (int y = 0; y < left.rows; ++y) {
+    for (int x = 0; x < left.cols; ++x) {
+      const double k = left.at<uint16_t>(y, x) / 100.0;
+      at_light += std::abs(k - light) < 0.5 ? 1 : 0;
+      at_dark += std::abs(k - dark) < 0.5 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(light - dark, 40.0);
+  EXPECT_GT(at_light, 20000);  // about a third of the image each
+  EXPECT_GT(at_dark, 20000);
+  const nlohmann::json manifest = ReadJsonFile(o.output / "manifest.json");
+  EXPECT_EQ(manifest.at("calib").at("thermal").at("board_temperature_k"), 320.0);
 }
 
 }  // namespace

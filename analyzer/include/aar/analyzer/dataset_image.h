@@ -30,5 +30,8 @@ cv::Mat ReadListedImage(const OpenedDataset& dataset, const FileRef& ref, int fl
 /// coldest count to 0 and its hottest to 255 (rounded); `where` names the
 /// file of an image that is not one-channel 16-bit.
 void WindowThermalPair(cv::Mat& left, cv::Mat& right, const std::string& where);
+/// One thermal image windowed alone, its coldest count to 0 and hottest to
+/// 255 (a calibration board's, whose corners are found image by image).
+void WindowThermalImage(cv::Mat& image, const std::string& where);
 
 }  // namespace aar

@@ -21,6 +21,9 @@ struct ThermalSceneOptions {
   /// How much warmer than the skin the receiver's engine nacelles are [K]
   /// (the meshes named "nacelle..."; their exhausts are not modelled).
   double nacelle_excess_k = 40.0;
+  /// The calibration board's temperature [K]: heated, as infrared
+  /// calibration targets are, so that its pattern shows.
+  double board_temperature_k = 320.0;
   void Check() const;
 };
 
@@ -51,8 +54,15 @@ struct ThermalScene {
   /// The model with every primitive unlit at its surface's radiance (the
   /// receiver's nacelles at nacelle_k, every other surface at skin_k).
   SceneModel Apply(const SceneModel& model) const;
+  /// The calibration board at board_temperature_k, its pattern one of
+  /// emissivity: e = 0.1 + 0.85 x the material's luminance (its light
+  /// squares white paint, 0.865; its dark squares and backing polished
+  /// metal, 0.117 and 0.20), so that it shows as it does in the visible.
+  SceneModel ApplyBoard(const SceneModel& board) const;
   /// The manifest's frames.thermal: temperatures, radiometry, the model in words.
   nlohmann::json Json() const;
+  /// The manifest's calib.thermal: the board's temperature and pattern.
+  nlohmann::json BoardJson() const;
 };
 
 }  // namespace aar
