@@ -46,6 +46,13 @@ time in rigs the experiment writes (OUT/rig-stray-*.json): the sun's veil
 60 px, fractions 5e-5, 2e-5 and 1e-5: two reflections of about 0.5 % off
 single-coated surfaces), then a CCD's blooming and smear (`blooming` 1, no
 anti-blooming drain; `smear` 0.001).
+
+Then the thermal camera: the same frames through `scenes/rig-lwir.json`,
+an uncooled 8-14 um pair at 640 x 512 (NETD 50 mK) in the visible rig's
+place, over the flat sky at 220 K, the skins at the airflow's recovery
+temperature (249 K) and the nacelles 40 K warmer (docs/rendering.md,
+"Thermal camera"), against the visible camera's default sun over the flat
+sky.
 """
 
 import json
@@ -121,6 +128,15 @@ STRAY_CASES = {
 }
 
 
+# The thermal camera: (key, label, render flags), against the visible default sun over the flat sky.
+THERMAL_CASES = {
+    "quick": (("lwir", "LWIR 8-14 um, NETD 50 mK (scenes/rig-lwir.json)", ("--rig", "scenes/rig-lwir.json")),),
+    "full": (("lwir", "LWIR 8-14 um, NETD 50 mK (scenes/rig-lwir.json)", ("--rig", "scenes/rig-lwir.json")),
+             ("lwir-cold-nacelles", "LWIR, nacelles at the skin's temperature (engines off)",
+              ("--rig", "scenes/rig-lwir.json", "--nacelle-excess", "0"))),
+}
+
+
 def stray_rig(ctx, part):
     """OUT/rig-stray-<part>.json: scenes/rig-noisy.json with STRAY_SENSORS[part] in its sensor block."""
     if part is None:
@@ -149,7 +165,8 @@ def _cases(mode):
              for sun, shading in flat]
     return (cases + [("terrain", key, label, flags) for key, label, flags in TERRAIN_CASES[mode]] +
             [("night", key, label, flags) for key, label, flags in NIGHT_CASES[mode]] +
-            [("stray", key, label, part) for key, label, part in STRAY_CASES[mode]])
+            [("stray", key, label, part) for key, label, part in STRAY_CASES[mode]] +
+            [("thermal", key, label, flags) for key, label, flags in THERMAL_CASES[mode]])
 
 
 def _label(sun, shading):
@@ -169,15 +186,18 @@ GROUPS = (("flat", "default", "over the flat sky, the fixed light",
           ("night", "night-day", "at night, through the sensor model",
            "in parentheses the ratio to the same sensor by day"),
           ("stray", "stray-none", "the sun in view through the lens and sensor",
-           "in parentheses the ratio to the same rig without stray light"))
+           "in parentheses the ratio to the same rig without stray light"),
+          ("thermal", "default", "the thermal camera over the flat sky",
+           "in parentheses the ratio to the visible camera's (the first row)"))
 
 
 @register("lighting", order=8,
           help="beyond the thesis: the pose error against the sun's azimuth and elevation (regions B and C, "
                "every 10th frame at x16, matte and pbr shading), and over terrain with daylight, shadows and the "
-               "sun in view, and at night with the moon, the receiver's lights and the tanker's floodlight through "
-               "the sensor model, and the sun in view with the lens's glare and ghosts and a CCD's blooming; --quick: two frames "
-               "at x4, two suns, two terrain, two night and two stray-light cases)")
+               "sun in view, at night with the moon, the receiver's lights and the tanker's floodlight through the "
+               "sensor model, the sun in view with the lens's glare and ghosts and a CCD's blooming, and through the "
+               "thermal camera; --quick: two frames at x4, two suns, two terrain, two night, two stray-light cases "
+               "and the thermal camera)")
 def run(ctx):
     mode = "quick" if ctx.quick else "full"
     msaa, sel = MSAA[mode], SELECTION[mode]
@@ -199,6 +219,8 @@ def run(ctx):
     for group, base_key, title, ratio_text in GROUPS:
         base = results[base_key]["regions"]
         cases = [c for c in _cases(mode) if c[0] == group]
+        if all(key != base_key for _, key, _, _ in cases):  # a baseline from another group heads the table
+            cases = [c for c in _cases(mode) if c[1] == base_key] + cases
         for region in REGIONS:
             if region not in base:
                 continue
