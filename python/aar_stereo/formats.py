@@ -79,7 +79,11 @@ def read_png(path):
     require_file(path, "an image is expected here")
     try:
         with Image.open(path) as image:
-            return np.array(image)
+            pixels = np.array(image)
+            # Pillow opens a 16-bit grey PNG (a thermal rig's radiometric view) as 32-bit mode "I".
+            if image.mode.startswith("I") and image.format == "PNG" and pixels.max(initial=0) <= 0xFFFF:
+                pixels = pixels.astype(np.uint16)
+            return pixels
     except (UnidentifiedImageError, OSError) as e:
         raise DataError(path, f"unreadable image: {e}") from None
 
