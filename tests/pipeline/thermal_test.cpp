@@ -20,8 +20,8 @@ using test::Quote;
 using test::RunAnalyze;
 using test::TempDir;
 
-// The boards at 15 and 30 m (`--far-boards 30`: at 45 m a square is under
-// 3 px at 640 x 512). Measured (lavapipe, x4): 17 of the 24 pairs found,
+// The boards at 15 and 30 m (`--far-boards 30`: at 45 m a square is about
+// 7 px at 640 x 512, too small for OpenCV's detector). Measured (lavapipe, x4): 17 of the 24 pairs found,
 // RMS 0.10 px, focal -0.029 %, baseline +0.104 %; the bounds are several
 // times that.
 TEST(ThermalPipeline, TheHeatedBoardsCalibrateTheThermalPair) {
