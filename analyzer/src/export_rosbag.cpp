@@ -1,5 +1,6 @@
 #include "aar/analyzer/export_rosbag.h"
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -272,9 +273,13 @@ std::string ImageMessage(const cv::Mat& stored, uint32_t seq, const RosTime& sta
   } else if (stored.type() == CV_8UC1) {
     image = stored;
     encoding = "mono8";
+  } else if (stored.type() == CV_16UC1) {  // a thermal rig's radiometric view (0.01 K per count)
+    image = stored;
+    encoding = "mono16";
   } else {
-    throw Error(what + ": not an 8-bit gray or RGB image");
+    throw Error(what + ": not an 8-bit gray or RGB image, nor a 16-bit gray one");
   }
+  static_assert(std::endian::native == std::endian::little, "mono16 rows are written as the machine holds them");
   const size_t step = image.cols * image.elemSize();
   Serializer m;
   m.Header(seq, stamp, frame_id);

@@ -101,10 +101,17 @@ def main():
 
     # One image's pixels: the left image of the first frame, as the PNG holds them.
     image = seen["/stereo/left/image_raw"][0]
-    png = np.asarray(PilImage.open(dataset / "frames" / f"{first:06d}_left.png").convert("RGB"))
-    expect(image.encoding == "rgb8" and image.is_bigendian == 0 and image.step == image.width * 3,
-           f"image encoding {image.encoding}, step {image.step}")
-    pixels = np.frombuffer(image.data, dtype=np.uint8).reshape(image.height, image.width, 3)
+    stored = PilImage.open(dataset / "frames" / f"{first:06d}_left.png")
+    if stored.mode.startswith("I"):  # a thermal rig's 16-bit grey view
+        png = np.asarray(stored).astype(np.uint16)
+        expect(image.encoding == "mono16" and image.is_bigendian == 0 and image.step == image.width * 2,
+               f"image encoding {image.encoding}, step {image.step}")
+        pixels = np.frombuffer(image.data, dtype="<u2").reshape(image.height, image.width)
+    else:
+        png = np.asarray(stored.convert("RGB"))
+        expect(image.encoding == "rgb8" and image.is_bigendian == 0 and image.step == image.width * 3,
+               f"image encoding {image.encoding}, step {image.step}")
+        pixels = np.frombuffer(image.data, dtype=np.uint8).reshape(image.height, image.width, 3)
     expect(pixels.shape == png.shape and np.array_equal(pixels, png), "the left image's pixels differ from the PNG's")
     expect(image.header.frame_id == "left_camera", f"image frame_id {image.header.frame_id}")
 

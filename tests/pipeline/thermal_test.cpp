@@ -1,7 +1,8 @@
 // End to end with the thermal pair (scenes/rig-lwir.json): the heated
 // boards rendered in the infrared and calibrated by aar-analyze from their
-// radiometric images recover the rig's focal length and baseline, and a
-// region C frame analyzed with that calibration is measured.
+// radiometric images recover the rig's focal length and baseline, two
+// region C frames analyzed with that calibration are measured, and their
+// views export to a ROS bag as mono16.
 
 #include <gtest/gtest.h>
 
@@ -55,6 +56,15 @@ TEST(ThermalPipeline, TheHeatedBoardsCalibrateTheThermalPair) {
                  " --frames 590:592 --out " + Quote(run));
   ASSERT_EQ(analyzed.exit_code, 0) << analyzed.output;
   EXPECT_NE(analyzed.output.find("2 frames analyzed, 0 not measured"), std::string::npos) << analyzed.output;
+
+  // The views in a ROS bag as mono16, read back by Debian's python3-rosbag.
+  const test::CommandResult exported =
+      RunAnalyze("export " + Quote(dataset) + " --format rosbag --frames 590:592 --out " + Quote(dir / "bag"));
+  ASSERT_EQ(exported.exit_code, 0) << exported.output;
+  const test::CommandResult check =
+      test::RunCommand("/usr/bin/python3 " + Quote(test::SourcePath("tests/pipeline/check_rosbag.py")) + " " +
+                       Quote(dir / "bag/dataset.bag") + " " + Quote(dataset) + " 590 2");
+  EXPECT_EQ(check.exit_code, 0) << check.output;
 }
 
 }  // namespace
