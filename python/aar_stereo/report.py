@@ -234,7 +234,8 @@ class Report:
         height, width = image.shape[:2]
         left, right, top, bottom = crop([p for p in (model, sensed) if p is not None], (width, height))
         fig, ax = plt.subplots(figsize=(4.8, 0.3 + 4.8 * (bottom - top) / (right - left)), constrained_layout=True)
-        ax.imshow(image, interpolation="nearest")
+        # A thermal rig's view is one channel of brightness temperature: grey, coldest to hottest.
+        ax.imshow(image, interpolation="nearest", cmap="gray" if image.ndim == 2 else None)
         ax.set_xlim(left, right)
         ax.set_ylim(bottom, top)
         parts = []
