@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <csetjmp>
 #include <cstring>
+#include <initializer_list>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -92,26 +93,38 @@ cv::Mat DecodeVerifiedPng(std::string_view bytes, int flags) {
   return image;
 }
 
-void WindowThermalPair(cv::Mat& left, cv::Mat& right, const std::string& where) {
-  if (left.type() != CV_16UC1 || right.type() != CV_16UC1) {
-    throw Error(where + ": the rig declares an LWIR camera, the image is not one-channel 16-bit (radiometric)");
+namespace {
+
+// The images of one window (the thermal views of a pair, or one alone),
+// their joint coldest count to 0 and hottest to 255, as 8-bit BGR.
+void WindowThermal(std::initializer_list<cv::Mat*> images, const std::string& where) {
+  double lo = 0.0, hi = 0.0;
+  bool first = true;
+  for (const cv::Mat* image : images) {
+    if (image->type() != CV_16UC1) {
+      throw Error(where + ": the rig declares an LWIR camera, the image is not one-channel 16-bit (radiometric)");
+    }
+    double image_lo = 0.0, image_hi = 0.0;
+    cv::minMaxLoc(*image, &image_lo, &image_hi);
+    lo = first ? image_lo : std::min(lo, image_lo);
+    hi = first ? image_hi : std::max(hi, image_hi);
+    first = false;
   }
-  double lo_l = 0, hi_l = 0, lo_r = 0, hi_r = 0;
-  cv::minMaxLoc(left, &lo_l, &hi_l);
-  cv::minMaxLoc(right, &lo_r, &hi_r);
-  const double lo = std::min(lo_l, lo_r), hi = std::max(hi_l, hi_r);
   const double scale = hi > lo ? 255.0 / (hi - lo) : 0.0;
-  for (cv::Mat* image : {&left, &right}) {
+  for (cv::Mat* image : images) {
     cv::Mat grey;
     image->convertTo(grey, CV_8U, scale, -lo * scale);  // saturating, round to nearest
     cv::cvtColor(grey, *image, cv::COLOR_GRAY2BGR);
   }
 }
 
-void WindowThermalImage(cv::Mat& image, const std::string& where) {
-  cv::Mat twin = image.clone();
-  WindowThermalPair(image, twin, where);
+}  // namespace
+
+void WindowThermalPair(cv::Mat& left, cv::Mat& right, const std::string& where) {
+  WindowThermal({&left, &right}, where);
 }
+
+void WindowThermalImage(cv::Mat& image, const std::string& where) { WindowThermal({&image}, where); }
 
 cv::Mat ReadListedImage(const OpenedDataset& dataset, const FileRef& ref, int flags, const std::string& what) {
   const std::string path = dataset.PathOf(ref.path);

@@ -118,7 +118,7 @@ double BandRadianceTable::BrightnessTemperature(double radiance) const {
 }
 
 double BandRadianceTable::Slope(double temperature_k) const {
-  return (Radiance(temperature_k + 0.5) - Radiance(temperature_k - 0.5)) / 1.0;
+  return Radiance(temperature_k + 0.5) - Radiance(temperature_k - 0.5);  // over 1 K
 }
 
 }  // namespace aar

@@ -4,12 +4,12 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
-#include <numbers>
 #include <utility>
 #include <vector>
 
 #include "aar/renderer/bayer.h"
 #include "aar/renderer/charge_spill.h"
+#include "aar/renderer/counter_noise.h"
 #include "aar/renderer/optical_blur.h"
 
 namespace aar {
@@ -19,32 +19,6 @@ namespace {
 // the temporal noise (per exposure) never share numbers.
 constexpr uint64_t kFixedPatternStream = 0x46504eULL;  // "FPN"
 constexpr uint64_t kTemporalStream = 0x54454d50ULL;    // "TEMP"
-
-// splitmix64's finaliser (Steele, Lea and Flood, "Fast splittable
-// pseudorandom number generators", OOPSLA 2014): a bijective 64-bit mix.
-uint64_t SplitMix64(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-uint64_t Mix(uint64_t key, uint64_t value) { return SplitMix64(key ^ SplitMix64(value)); }
-
-struct NormalPair {
-  double first = 0.0;
-  double second = 0.0;
-};
-
-// Two independent standard normal numbers from 64 random bits (Box-Muller on
-// two 32-bit uniforms in (0, 1); the tails are cut at 6.7 sigma).
-NormalPair Normals(uint64_t bits) {
-  const double u1 = (static_cast<double>(bits >> 32) + 0.5) * 0x1p-32;
-  const double u2 = (static_cast<double>(bits & 0xffffffffULL) + 0.5) * 0x1p-32;
-  const double r = std::sqrt(-2.0 * std::log(u1));
-  const double angle = 2.0 * std::numbers::pi * u2;
-  return {r * std::cos(angle), r * std::sin(angle)};
-}
 
 // The photon-transfer model of one sample (EMVA 1288, release 3.1, section 2).
 class PhotonTransfer {

@@ -53,12 +53,15 @@ double ThermalScene::SurfaceRadiance(double temperature_k, double emissivity) co
   return emissivity * table.Radiance(temperature_k) / reference_radiance + (1.0 - emissivity) * sky_radiance;
 }
 
-SceneModel ThermalScene::Apply(const SceneModel& model) const {
+namespace {
+
+// The model with every primitive unlit at radiance(primitive), untextured.
+template <typename RadianceOf>
+SceneModel Emitting(const SceneModel& model, RadianceOf radiance_of) {
   SceneModel out = model;
   out.textures.clear();
   for (Primitive& p : out.primitives) {
-    const double t = p.mesh.rfind("nacelle", 0) == 0 ? nacelle_k : skin_k;
-    const float radiance = static_cast<float>(SurfaceRadiance(t, EmissivityOf(p)));
+    const float radiance = static_cast<float>(radiance_of(p));
     p.base_color_factor = {radiance, radiance, radiance, 1.0f};
     p.texture = -1;
     p.emissive = true;
@@ -66,19 +69,20 @@ SceneModel ThermalScene::Apply(const SceneModel& model) const {
   return out;
 }
 
+}  // namespace
+
+SceneModel ThermalScene::Apply(const SceneModel& model) const {
+  return Emitting(model, [&](const Primitive& p) {
+    return SurfaceRadiance(p.mesh.rfind("nacelle", 0) == 0 ? nacelle_k : skin_k, EmissivityOf(p));
+  });
+}
+
 SceneModel ThermalScene::ApplyBoard(const SceneModel& board) const {
-  SceneModel out = board;
-  out.textures.clear();
-  for (Primitive& p : out.primitives) {
+  return Emitting(board, [&](const Primitive& p) {
     const std::array<float, 4>& c = p.base_color_factor;
     const double luminance = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
-    const double emissivity = 0.1 + 0.85 * std::clamp(luminance, 0.0, 1.0);
-    const float radiance = static_cast<float>(SurfaceRadiance(options.board_temperature_k, emissivity));
-    p.base_color_factor = {radiance, radiance, radiance, 1.0f};
-    p.texture = -1;
-    p.emissive = true;
-  }
-  return out;
+    return SurfaceRadiance(options.board_temperature_k, 0.1 + 0.85 * std::clamp(luminance, 0.0, 1.0));
+  });
 }
 
 nlohmann::json ThermalScene::BoardJson() const {

@@ -5,25 +5,19 @@
 #include <numbers>
 #include <utility>
 
+#include "aar/renderer/counter_noise.h"
+
 namespace aar {
 namespace {
 
 constexpr uint64_t kFixedStream = 0x4c574e55ULL;     // "LWNU"
 constexpr uint64_t kTemporalStream = 0x4c575454ULL;  // "LWTT"
 
-uint64_t SplitMix64(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ULL;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
-  return x ^ (x >> 31);
-}
-
-uint64_t Mix(uint64_t key, uint64_t value) { return SplitMix64(key ^ SplitMix64(value)); }
-
-// A standard normal from 64 random bits (Box-Muller, the cosine of the pair).
+// A standard normal from 64 random bits (Box-Muller, the cosine of the pair;
+// u1 in (0, 1], so the tails reach 6.7 sigma as Normals' do).
 double Normal(uint64_t bits) {
-  const double u1 = (static_cast<double>(bits >> 32) + 1.0) * 0x1.0p-32;    // (0, 1]
-  const double u2 = static_cast<double>(bits & 0xFFFFFFFFULL) * 0x1.0p-32;  // [0, 1)
+  const double u1 = (static_cast<double>(bits >> 32) + 1.0) * 0x1.0p-32;
+  const double u2 = static_cast<double>(bits & 0xFFFFFFFFULL) * 0x1.0p-32;
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
 }
 
